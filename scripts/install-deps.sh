@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Installs every Debian package rayunits needs. Idempotent: skips what is present.
+# Usage: scripts/install-deps.sh [--long]   (--long adds the real-scene meshes)
+set -euo pipefail
+PKGS=(
+  build-essential cmake ninja-build ccache pkg-config git
+  verilator yosys iverilog nextpnr-ice40 fpga-icestorm
+  libsystemc-dev libgtest-dev libgmock-dev libbenchmark-dev
+  libgmp-dev libmpfr-dev libfftw3-dev
+  libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libstb-dev
+  python3 python3-matplotlib python3-numpy
+)
+if [[ "${1:-}" == "--long" ]]; then PKGS+=(libassimp-dev assimp-testmodels); fi
+missing=()
+for p in "${PKGS[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+if ((${#missing[@]} == 0)); then
+  echo "install-deps: all ${#PKGS[@]} packages present"
+  exit 0
+fi
+echo "install-deps: installing ${missing[*]}"
+SUDO=""
+if [[ $(id -u) -ne 0 ]]; then
+  if command -v sudo >/dev/null; then SUDO="sudo"; else
+    echo "install-deps: error: not root and no sudo; install as root: apt-get install ${missing[*]}" >&2
+    exit 1
+  fi
+fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
