@@ -241,12 +241,14 @@ u128 isqrt128(u128 v) {
   return r;
 }
 
+
 }  // namespace
 
-Result add(const Format& f, uint64_t a, uint64_t b) { return add_impl(f, a, b, false); }
-Result sub(const Format& f, uint64_t a, uint64_t b) { return add_impl(f, a, b, true); }
+namespace detail {
+Result add_general(const Format& f, uint64_t a, uint64_t b) { return add_impl(f, a, b, false); }
+Result sub_general(const Format& f, uint64_t a, uint64_t b) { return add_impl(f, a, b, true); }
 
-Result mul(const Format& f, uint64_t a, uint64_t b) {
+Result mul_general(const Format& f, uint64_t a, uint64_t b) {
   const Unpacked x = unpack(f, a), y = unpack(f, b);
   if (x.kind == Unpacked::NaN || y.kind == Unpacked::NaN) return nan_result(f, x.snan || y.snan);
   const bool neg = x.neg != y.neg;
@@ -257,6 +259,7 @@ Result mul(const Format& f, uint64_t a, uint64_t b) {
   if (x.kind == Unpacked::Zero || y.kind == Unpacked::Zero) return {signed_zero(f, neg), 0};
   return round_pack(f, neg, x.exp + y.exp, static_cast<u128>(x.sig) * y.sig, false);
 }
+}  // namespace detail
 
 Result div(const Format& f, uint64_t a, uint64_t b) {
   Unpacked x = unpack(f, a), y = unpack(f, b);

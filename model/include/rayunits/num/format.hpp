@@ -87,9 +87,11 @@ struct Result {
 };
 
 // Arithmetic: every op uses f.round and f.subnormals. Operands must fit in f.width() bits.
-Result add(const Format& f, uint64_t a, uint64_t b);
-Result sub(const Format& f, uint64_t a, uint64_t b);
-Result mul(const Format& f, uint64_t a, uint64_t b);
+// add, sub and mul are inline (fast path for normal operands/results in
+// rayunits/num/detail/fast_paths.hpp, general path in softfloat.cpp).
+inline Result add(const Format& f, uint64_t a, uint64_t b);
+inline Result sub(const Format& f, uint64_t a, uint64_t b);
+inline Result mul(const Format& f, uint64_t a, uint64_t b);
 Result div(const Format& f, uint64_t a, uint64_t b);
 Result sqrt(const Format& f, uint64_t a);
 Result fma(const Format& f, uint64_t a, uint64_t b, uint64_t c);  // a*b+c, one rounding
@@ -142,3 +144,5 @@ Result apply(const Format& f, Op op, uint64_t a, uint64_t b = 0, uint64_t c = 0)
 uint64_t parse_operand(const Format& f, std::string_view text);
 
 }  // namespace ru::num
+
+#include "rayunits/num/detail/fast_paths.hpp"
