@@ -8,9 +8,9 @@ PKGS=(
   libsystemc-dev libgtest-dev libgmock-dev libbenchmark-dev
   libgmp-dev libmpfr-dev libfftw3-dev
   libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libstb-dev
-  python3 python3-matplotlib python3-numpy
+  python3 python3-matplotlib python3-numpy libassimp-dev
 )
-if [[ "${1:-}" == "--long" ]]; then PKGS+=(libassimp-dev assimp-testmodels); fi
+if [[ "${1:-}" == "--long" ]]; then PKGS+=(assimp-testmodels libcgal-demo); fi
 missing=()
 for p in "${PKGS[@]}"; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then

@@ -7,6 +7,9 @@
 #include "rayunits/num/format.hpp"
 
 namespace ru::num {
+namespace detail {
+Result from_decimal(const Format& f, bool neg, const std::string& digits, long exp10);
+}
 
 static const char* kAccepted =
     "accepted: eXmY[-ftz] with X exponent bits in [2,11], Y fraction bits in [1,52], 1+X+Y <= 64 "
@@ -22,6 +25,7 @@ void Format::validate() const {
 
 static bool parse_uint(std::string_view s, size_t& pos, int& out) {
   size_t start = pos;
+  if (pos + 1 < s.size() && s[pos] == '0' && s[pos + 1] >= '0' && s[pos + 1] <= '9') return false;  // no leading zeros
   long v = 0;
   while (pos < s.size() && s[pos] >= '0' && s[pos] <= '9') {
     v = v * 10 + (s[pos] - '0');
@@ -35,11 +39,11 @@ static bool parse_uint(std::string_view s, size_t& pos, int& out) {
 Format Format::parse(std::string_view name) {
   Format f;
   size_t pos = 0;
-  bool ok = !name.empty() && (name[0] == 'e' || name[0] == 'E');
+  bool ok = !name.empty() && name[0] == 'e';  // canonical spelling only: parse(name()) round-trips
   int e = 0, m = 0;
   if (ok) {
     pos = 1;
-    ok = parse_uint(name, pos, e) && pos < name.size() && (name[pos] == 'm' || name[pos] == 'M');
+    ok = parse_uint(name, pos, e) && pos < name.size() && name[pos] == 'm';
   }
   if (ok) {
     ++pos;
@@ -135,14 +139,47 @@ uint64_t parse_operand(const Format& f, std::string_view text) {
                         std::to_string(f.width()) + " bits)");
     return v;
   }
+  // Plain decimals ([-+]digits[.digits][e[-+]digits]) are rounded once from their exact value.
+  {
+    size_t i = 0;
+    bool neg = false;
+    if (i < t.size() && (t[i] == '-' || t[i] == '+')) neg = t[i++] == '-';
+    std::string digits;
+    long frac_digits = 0;
+    bool dot = false, any = false;
+    for (; i < t.size(); ++i) {
+      if (t[i] >= '0' && t[i] <= '9') {
+        digits += t[i];
+        any = true;
+        if (dot) ++frac_digits;
+      } else if (t[i] == '.' && !dot) {
+        dot = true;
+      } else {
+        break;
+      }
+    }
+    long exp10 = 0;
+    bool ok = any;
+    if (ok && i < t.size() && (t[i] == 'e' || t[i] == 'E')) {
+      ++i;
+      bool eneg = false;
+      if (i < t.size() && (t[i] == '-' || t[i] == '+')) eneg = t[i++] == '-';
+      const size_t start = i;
+      for (; i < t.size() && t[i] >= '0' && t[i] <= '9'; ++i)
+        if (exp10 < 100000000) exp10 = exp10 * 10 + (t[i] - '0');
+      ok = i > start;
+      if (eneg) exp10 = -exp10;
+    }
+    if (ok && i == t.size()) return detail::from_decimal(f, neg, digits, exp10 - frac_digits).bits;
+  }
+  // inf, nan and hexadecimal floating-point literals go through strtod (exact for hex literals
+  // of up to 53 significant bits).
   errno = 0;
   char* end = nullptr;
   double d = std::strtod(t.c_str(), &end);
-  if (t.empty() || *end)
+  if (t.empty() || *end ||
+      (t.find_first_of("xX") == std::string::npos && t.find_first_of("iInN") == std::string::npos))
     throw FormatError("bad number '" + t + "'; expected a decimal number (e.g. 1.5, -2e-3, inf, nan) or 0x bits");
-  // Note: decimal text goes through double (correctly rounded by strtod) and then into the
-  // format; for M <= 52 this double rounding can differ from a direct decimal->format rounding
-  // only for decimal inputs that are not exactly representable in double.
   return from_double(f, d).bits;
 }
 

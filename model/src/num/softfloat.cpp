@@ -9,6 +9,8 @@
 #include <cstring>
 #include <utility>
 
+#include <gmpxx.h>
+
 #include "rayunits/num/format.hpp"
 
 namespace ru::num {
@@ -388,6 +390,30 @@ double to_double(const Format& f, uint64_t a) {
   const double v = std::ldexp(static_cast<double>(u.sig), u.exp);
   return u.neg ? -v : v;
 }
+
+namespace detail {
+// Rounds the exact decimal (-1)^neg * digits * 10^exp10 once into the format: the value is a
+// rational N/D (GMP), and the integer quotient with M+3..M+4 bits plus the remainder as sticky
+// feeds round_pack. |exp10| is clamped to 1200: beyond that every format over- or underflows
+// the same way (2^1024 ~ 1.8e308, 2^-1074 ~ 4.9e-324).
+Result from_decimal(const Format& f, bool neg, const std::string& digits, long exp10) {
+  mpz_class N(digits, 10);
+  if (N == 0) return {signed_zero(f, neg), 0};
+  const long e10 = exp10 > 1200 ? 1200 : (exp10 < -1200 ? -1200 : exp10);
+  mpz_class D = 1, p;
+  mpz_ui_pow_ui(p.get_mpz_t(), 10, static_cast<unsigned long>(e10 < 0 ? -e10 : e10));
+  if (e10 < 0) D = p; else N *= p;
+  // Choose s so that q = floor(N * 2^s / D) has M+3 or M+4 bits.
+  const long nb = static_cast<long>(mpz_sizeinbase(N.get_mpz_t(), 2));
+  const long db = static_cast<long>(mpz_sizeinbase(D.get_mpz_t(), 2));
+  const long s = (f.frac_bits + 4) - (nb - db);
+  if (s >= 0) N <<= static_cast<mp_bitcnt_t>(s); else D <<= static_cast<mp_bitcnt_t>(-s);
+  mpz_class q, r;
+  mpz_tdiv_qr(q.get_mpz_t(), r.get_mpz_t(), N.get_mpz_t(), D.get_mpz_t());
+  const uint64_t q64 = mpz_get_ui(q.get_mpz_t());  // < 2^(M+5) <= 2^57
+  return round_pack(f, neg, static_cast<int>(-s), q64, r != 0);
+}
+}  // namespace detail
 
 Result from_int(const Format& f, int64_t x) {
   if (x == 0) return {0, 0};

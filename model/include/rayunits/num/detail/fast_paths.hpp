@@ -28,36 +28,58 @@ inline uint64_t round_inc(Round rm, bool neg, uint64_t q, uint64_t rem, uint64_t
   return 0;
 }
 
-inline bool exp_is_normal(const Format& f, uint64_t e) { return e - 1 < f.exp_field_max() - 1; }
+// Format constants for the fast paths: DynConsts reads them from a runtime Format;
+// FixedConsts<E, M> makes them compile-time constants (shifts and masks become immediates),
+// used for the formats sweeps and renders use most. Both instantiate the same code below.
+struct DynConsts {
+  int M, E;
+  int64_t bias;
+  Round rm;
+  explicit DynConsts(const Format& f) : M(f.frac_bits), E(f.exp_bits), bias(f.bias()), rm(f.round) {}
+};
+template <int kE, int kM>
+struct FixedConsts {
+  static constexpr int M = kM, E = kE;
+  static constexpr int64_t bias = (1 << (kE - 1)) - 1;
+  Round rm;
+  explicit FixedConsts(const Format& f) : rm(f.round) {}
+};
 
-inline bool mul_fast(const Format& f, uint64_t a, uint64_t b, Result& out) {
-  const int M = f.frac_bits;
+template <class C>
+inline bool exp_is_normal(const C& c, uint64_t e) {
+  return e - 1 < (1ull << c.E) - 2;
+}
+
+template <class C>
+inline bool mul_fast(const C& c, uint64_t a, uint64_t b, Result& out) {
+  const int M = c.M;
   if (M > 31) return false;
-  const uint64_t emask = f.exp_field_max();
+  const uint64_t emask = (1ull << c.E) - 1;
   const uint64_t ea = (a >> M) & emask, eb = (b >> M) & emask;
-  if (!exp_is_normal(f, ea) || !exp_is_normal(f, eb)) return false;
+  if (!exp_is_normal(c, ea) || !exp_is_normal(c, eb)) return false;
   const uint64_t hidden = 1ull << M, fmask = hidden - 1;
   const uint64_t p = ((a & fmask) | hidden) * ((b & fmask) | hidden);  // [2^2M, 2^(2M+2))
   const int hi = static_cast<int>(p >> (2 * M + 1));
-  const int64_t e = static_cast<int64_t>(ea + eb) - f.bias() + hi;  // biased, before rounding
+  const int64_t e = static_cast<int64_t>(ea + eb) - c.bias + hi;  // biased, before rounding
   if (e <= 0 || e >= static_cast<int64_t>(emask) - 1) return false;
-  const bool neg = ((a ^ b) >> (M + f.exp_bits)) & 1;
+  const bool neg = ((a ^ b) >> (M + c.E)) & 1;
   const int shift = M + hi;
   const uint64_t q = p >> shift, rem = p & ((1ull << shift) - 1);
-  const uint64_t up = round_inc(f.round, neg, q, rem, 1ull << (shift - 1));
+  const uint64_t up = round_inc(c.rm, neg, q, rem, 1ull << (shift - 1));
   // (e-1) << M plus q (hidden bit included): a rounding carry ripples into the exponent.
-  out.bits = (static_cast<uint64_t>(neg) << (M + f.exp_bits)) | ((static_cast<uint64_t>(e - 1) << M) + q + up);
+  out.bits = (static_cast<uint64_t>(neg) << (M + c.E)) | ((static_cast<uint64_t>(e - 1) << M) + q + up);
   out.flags = rem ? kInexact : 0;
   return true;
 }
 
-inline bool add_fast(const Format& f, uint64_t a, uint64_t b, Result& out) {
-  const int M = f.frac_bits;
+template <class C>
+inline bool add_fast(const C& c, uint64_t a, uint64_t b, Result& out) {
+  const int M = c.M;
   if (M > 44) return false;
-  const uint64_t sign = f.sign_bit(), mag = sign - 1, emask = f.exp_field_max();
+  const uint64_t sign = 1ull << (M + c.E), mag = sign - 1, emask = (1ull << c.E) - 1;
   if ((a & mag) < (b & mag)) std::swap(a, b);  // |a| >= |b|
   const uint64_t ea = (a >> M) & emask, eb = (b >> M) & emask;
-  if (!exp_is_normal(f, ea) || !exp_is_normal(f, eb)) return false;
+  if (!exp_is_normal(c, ea) || !exp_is_normal(c, eb)) return false;
   const uint64_t hidden = 1ull << M, fmask = hidden - 1;
   const int d = static_cast<int>(ea - eb);
   // Three extra low bits (guard, round, sticky) below both significands.
@@ -69,9 +91,9 @@ inline bool add_fast(const Format& f, uint64_t a, uint64_t b, Result& out) {
   uint64_t S;
   if (((a ^ b) & sign) == 0) {
     S = X + Y;  // < 2^(M+5)
-    const int c = static_cast<int>(S >> (M + 4));
-    S = (S >> c) | (S & static_cast<uint64_t>(c));
-    e += c;
+    const int carry = static_cast<int>(S >> (M + 4));
+    S = (S >> carry) | (S & static_cast<uint64_t>(carry));
+    e += carry;
   } else {
     S = X - Y;
     if (S == 0) return false;  // exact zero: its sign depends on the mode (general path)
@@ -82,27 +104,44 @@ inline bool add_fast(const Format& f, uint64_t a, uint64_t b, Result& out) {
   if (e <= 0 || e >= static_cast<int64_t>(emask) - 1) return false;
   const bool neg = (a & sign) != 0;
   const uint64_t q = S >> 3, rem = S & 7;
-  const uint64_t up = round_inc(f.round, neg, q, rem, 4);
+  const uint64_t up = round_inc(c.rm, neg, q, rem, 4);
   out.bits = (a & sign) | ((static_cast<uint64_t>(e - 1) << M) + q + up);
   out.flags = rem ? kInexact : 0;
   return true;
 }
 
+// Dispatch to a compile-time-constant instance for the common formats.
+template <template <class> class Op>
+inline bool dispatch_fast(const Format& f, uint64_t a, uint64_t b, Result& out) {
+  if (f.exp_bits == 8 && f.frac_bits == 23) return Op<FixedConsts<8, 23>>::run(FixedConsts<8, 23>(f), a, b, out);
+  if (f.exp_bits == 7 && f.frac_bits == 16) return Op<FixedConsts<7, 16>>::run(FixedConsts<7, 16>(f), a, b, out);
+  if (f.exp_bits == 5 && f.frac_bits == 10) return Op<FixedConsts<5, 10>>::run(FixedConsts<5, 10>(f), a, b, out);
+  return Op<DynConsts>::run(DynConsts(f), a, b, out);
+}
+template <class C>
+struct AddFastOp {
+  static bool run(const C& c, uint64_t a, uint64_t b, Result& out) { return add_fast(c, a, b, out); }
+};
+template <class C>
+struct MulFastOp {
+  static bool run(const C& c, uint64_t a, uint64_t b, Result& out) { return mul_fast(c, a, b, out); }
+};
+
 }  // namespace detail
 
 inline Result add(const Format& f, uint64_t a, uint64_t b) {
   Result r;
-  if (detail::add_fast(f, a, b, r)) return r;
+  if (detail::dispatch_fast<detail::AddFastOp>(f, a, b, r)) return r;
   return detail::add_general(f, a, b);
 }
 inline Result sub(const Format& f, uint64_t a, uint64_t b) {
   Result r;
-  if (detail::add_fast(f, a, b ^ f.sign_bit(), r)) return r;
+  if (detail::dispatch_fast<detail::AddFastOp>(f, a, b ^ f.sign_bit(), r)) return r;
   return detail::sub_general(f, a, b);
 }
 inline Result mul(const Format& f, uint64_t a, uint64_t b) {
   Result r;
-  if (detail::mul_fast(f, a, b, r)) return r;
+  if (detail::dispatch_fast<detail::MulFastOp>(f, a, b, r)) return r;
   return detail::mul_general(f, a, b);
 }
 
