@@ -1,0 +1,355 @@
+// rayunits bench fp: ops/s of the bit-exact model vs MPFR doing the same format emulation.
+//
+// Three things are timed per format and operation, alternating, in thread CPU time:
+//   model    ru::num::add/mul/div/fma on bit patterns (bits + flags out);
+//   MPFR     operands already held as mpfr_t at precision M+1, emin/emax set for the format:
+//            the operation, mpfr_subnormalize, the flags -- the cheapest possible MPFR step;
+//   MPFR+cv  the same plus mpfr_set_d of the operands and mpfr_get_d of the result (exact
+//            conversions): values in, value + flags out, the model's interface. Default
+//            baseline of the ratio line (--baseline resident switches to MPFR).
+// The project's MPFR test oracle (ru::num::mpfr_apply: bits in/out, every special case) is
+// timed too, for information. Model and MPFR+cv are checked to give the same values first.
+#include <mpfr.h>
+
+#include <algorithm>
+#include <ctime>
+#include <functional>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "cli_util.hpp"
+#include "command.hpp"
+#include "rayunits/num/format.hpp"
+#include "rayunits/num/mpfr_ref.hpp"
+
+namespace ru::cli {
+namespace {
+
+using ru::num::Format;
+using ru::num::Op;
+
+volatile uint64_t g_sink;
+
+struct Operands {
+  std::vector<uint64_t> a, b, c;  // bit patterns
+  std::vector<double> da, db, dc;  // the same values as doubles
+};
+
+uint64_t splitmix(uint64_t& s) {
+  uint64_t z = (s += 0x9e3779b97f4a7c15ull);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+  return z ^ (z >> 31);
+}
+
+// Exponent span of the operands: [-span, span] keeps every product, quotient and fma result
+// normal (no overflow/underflow), so both sides do the same ordinary work.
+int operand_span(const Format& f) { return std::max(0, std::min(8, (f.emax() - 2) / 2)); }
+
+// Random normal values with exponents in [-span, span], random fraction bits, random sign.
+Operands make_operands(const Format& f, size_t n, uint64_t seed) {
+  Operands o;
+  uint64_t s = seed;
+  const int span = operand_span(f);
+  auto one = [&](std::vector<uint64_t>& bits, std::vector<double>& d) {
+    int e = static_cast<int>(splitmix(s) % static_cast<uint64_t>(2 * span + 1)) - span;
+    uint64_t frac = splitmix(s) & f.frac_mask();
+    uint64_t sign = (splitmix(s) & 1) ? f.sign_bit() : 0;
+    uint64_t v = sign | (static_cast<uint64_t>(e + f.bias()) << f.frac_bits) | frac;
+    bits.push_back(v);
+    d.push_back(ru::num::to_double(f, v));
+  };
+  for (size_t i = 0; i < n; ++i) {
+    one(o.a, o.da);
+    one(o.b, o.db);
+    one(o.c, o.dc);
+  }
+  return o;
+}
+
+mpfr_rnd_t mpfr_mode(ru::num::Round r) {
+  switch (r) {
+    case ru::num::Round::RNE: return MPFR_RNDN;
+    case ru::num::Round::RTZ: return MPFR_RNDZ;
+    case ru::num::Round::RDN: return MPFR_RNDD;
+    case ru::num::Round::RUP: return MPFR_RNDU;
+  }
+  return MPFR_RNDN;
+}
+
+// One pass of the model over all operand sets.
+void model_pass(const Format& f, Op op, const Operands& o) {
+  uint64_t sink = 0;
+  const size_t n = o.a.size();
+  switch (op) {
+    case Op::Add:
+      for (size_t i = 0; i < n; ++i) {
+        auto r = ru::num::add(f, o.a[i], o.b[i]);
+        sink += r.bits ^ r.flags;
+      }
+      break;
+    case Op::Mul:
+      for (size_t i = 0; i < n; ++i) {
+        auto r = ru::num::mul(f, o.a[i], o.b[i]);
+        sink += r.bits ^ r.flags;
+      }
+      break;
+    case Op::Div:
+      for (size_t i = 0; i < n; ++i) {
+        auto r = ru::num::div(f, o.a[i], o.b[i]);
+        sink += r.bits ^ r.flags;
+      }
+      break;
+    default:
+      for (size_t i = 0; i < n; ++i) {
+        auto r = ru::num::fma(f, o.a[i], o.b[i], o.c[i]);
+        sink += r.bits ^ r.flags;
+      }
+      break;
+  }
+  g_sink = g_sink + sink;
+}
+
+// The lean MPFR emulation; out (optional) receives the result values.
+class MpfrLoop {
+ public:
+  explicit MpfrLoop(const Format& f) : f_(f), rnd_(mpfr_mode(f.round)) {
+    old_emin_ = mpfr_get_emin();
+    old_emax_ = mpfr_get_emax();
+    mpfr_inits2(f.frac_bits + 1, a_, b_, c_, r_, static_cast<mpfr_ptr>(nullptr));
+  }
+  ~MpfrLoop() {
+    for (auto* v : {&ra_, &rb_, &rc_})
+      for (auto& x : *v) mpfr_clear(x.m);
+    mpfr_clears(a_, b_, c_, r_, static_cast<mpfr_ptr>(nullptr));
+    mpfr_set_emin(old_emin_);
+    mpfr_set_emax(old_emax_);
+  }
+  // MPFR significands are in [1/2, 1): the format's largest finite value is below 2^(emax+1)
+  // and its smallest subnormal is 2^(emin-M) = 1/2 * 2^(emin-M+1).
+  void set_range() {
+    mpfr_set_emin(f_.emin() - f_.frac_bits + 1);
+    mpfr_set_emax(f_.emax() + 1);
+  }
+  // Operands already held as mpfr_t (loaded once): per operation only the operation itself,
+  // mpfr_subnormalize and the flags. The fastest way to run a computation in MPFR emulation.
+  void load(const Operands& o) {
+    auto fill = [&](std::vector<Num>& v, const std::vector<double>& d) {
+      v.resize(d.size());
+      for (size_t i = 0; i < d.size(); ++i) {
+        mpfr_init2(v[i].m, f_.frac_bits + 1);
+        mpfr_set_d(v[i].m, d[i], MPFR_RNDN);
+      }
+    };
+    fill(ra_, o.da);
+    fill(rb_, o.db);
+    fill(rc_, o.dc);
+  }
+  void resident_pass(Op op) {
+    set_range();
+    uint64_t sink = 0;
+    const size_t n = ra_.size();
+    for (size_t i = 0; i < n; ++i) {
+      mpfr_clear_flags();
+      int t;
+      switch (op) {
+        case Op::Add: t = mpfr_add(r_, ra_[i].m, rb_[i].m, rnd_); break;
+        case Op::Mul: t = mpfr_mul(r_, ra_[i].m, rb_[i].m, rnd_); break;
+        case Op::Div: t = mpfr_div(r_, ra_[i].m, rb_[i].m, rnd_); break;
+        default: t = mpfr_fma(r_, ra_[i].m, rb_[i].m, rc_[i].m, rnd_); break;
+      }
+      t = mpfr_subnormalize(r_, t, rnd_);
+      sink += static_cast<uint64_t>(mpfr_flags_save()) + static_cast<uint64_t>(t);
+    }
+    g_sink = g_sink + sink;
+  }
+
+  void pass(Op op, const Operands& o, double* out) {
+    set_range();
+    uint64_t sink = 0;
+    const size_t n = o.da.size();
+    for (size_t i = 0; i < n; ++i) {
+      mpfr_clear_flags();
+      mpfr_set_d(a_, o.da[i], MPFR_RNDN);  // exact: the value has M+1 bits
+      mpfr_set_d(b_, o.db[i], MPFR_RNDN);
+      int t;
+      switch (op) {
+        case Op::Add: t = mpfr_add(r_, a_, b_, rnd_); break;
+        case Op::Mul: t = mpfr_mul(r_, a_, b_, rnd_); break;
+        case Op::Div: t = mpfr_div(r_, a_, b_, rnd_); break;
+        default:
+          mpfr_set_d(c_, o.dc[i], MPFR_RNDN);
+          t = mpfr_fma(r_, a_, b_, c_, rnd_);
+          break;
+      }
+      mpfr_subnormalize(r_, t, rnd_);
+      double d = mpfr_get_d(r_, MPFR_RNDN);  // exact
+      unsigned flags = mpfr_flags_save();
+      if (out) out[i] = d;
+      uint64_t bits;
+      std::memcpy(&bits, &d, sizeof bits);
+      sink += bits ^ flags;
+    }
+    g_sink = g_sink + sink;
+  }
+
+ private:
+  Format f_;
+  mpfr_rnd_t rnd_;
+  mpfr_exp_t old_emin_, old_emax_;
+  mpfr_t a_, b_, c_, r_;
+  struct Num {
+    mpfr_t m;
+  };
+  std::vector<Num> ra_, rb_, rc_;
+};
+
+void oracle_pass(const Format& f, Op op, const Operands& o, size_t n) {
+  uint64_t sink = 0;
+  for (size_t i = 0; i < n; ++i) {
+    auto r = ru::num::mpfr_apply(f, op, o.a[i], o.b[i], o.c[i]);
+    sink += r.bits ^ r.flags;
+  }
+  g_sink = g_sink + sink;
+}
+
+// Times passes of A and B alternately (A B A B ...) so that a changing machine load hits both
+// alike; each timed run repeats its pass until >= min_time s. Returns the median ns per
+// operation of each.
+// Time is the CPU time of this thread, so other processes on a busy machine do not count.
+double thread_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+// Times the passes in turn (A B C A B C ...) so that a changing machine load hits all alike;
+// each timed run repeats its pass until >= min_time s of CPU time. Returns the median ns per
+// operation of each pass.
+std::vector<double> median_ns(const std::vector<std::function<void()>>& passes, const std::vector<size_t>& ops,
+                              int reps, double min_time) {
+  std::vector<long> k;
+  for (const auto& p : passes) {
+    double t0 = thread_cpu_seconds();
+    p();  // warm-up and calibration
+    double one = thread_cpu_seconds() - t0;
+    k.push_back(std::max(1L, static_cast<long>(std::ceil(min_time / std::max(one, 1e-9)))));
+  }
+  std::vector<std::vector<double>> ns(passes.size());
+  for (int r = 0; r < reps; ++r)
+    for (size_t j = 0; j < passes.size(); ++j) {
+      double t = thread_cpu_seconds();
+      for (long i = 0; i < k[j]; ++i) passes[j]();
+      double s = thread_cpu_seconds() - t;
+      ns[j].push_back(s * 1e9 / (static_cast<double>(k[j]) * static_cast<double>(ops[j])));
+    }
+  std::vector<double> med;
+  for (auto& v : ns) {
+    std::sort(v.begin(), v.end());
+    med.push_back(v[v.size() / 2]);
+  }
+  return med;
+}
+
+int run_bench_fp(int argc, char** argv) {
+  CLI::App app{
+      "Benchmark: operations per second of the bit-exact model (ru::num) vs MPFR emulating the same "
+      "format (precision M+1, emin/emax, mpfr_subnormalize), single thread, random normal operands. "
+      "The last line is 'ratio add=X mul=Y div=Z fma=W' (model speed / MPFR speed; with several "
+      "formats, the smallest ratio over them).",
+      "rayunits bench fp"};
+  std::vector<std::string> formats;
+  std::string round_text = "rne";
+  size_t n = 1 << 14;
+  int reps = 7;
+  double min_time = 0.05;
+  bool oracle = true;
+  uint64_t seed = 1;
+  app.add_option("--format", formats, "format(s) to measure (default: e7m16 and e8m23)")->delimiter(',');
+  app.add_option("--round", round_text, "rounding mode (default rne)");
+  app.add_option("--n", n, "operand sets per pass (default 16384)");
+  app.add_option("--reps", reps, "timed runs per measurement; the median is reported (default 7)");
+  app.add_option("--min-time", min_time, "seconds per timed run, at least (default 0.05)");
+  app.add_option("--seed", seed, "operand seed (default 1)");
+  app.add_flag("--oracle,!--no-oracle", oracle, "also time the test oracle ru::num::mpfr_apply (default on)");
+  std::string baseline = "convert";
+  app.add_option("--baseline", baseline,
+                 "MPFR variant of the ratio line: convert (default; operands in and result out as values, like the "
+                 "model) or resident (operands already mpfr_t)");
+  if (!parse_args(app, argc, argv)) return 0;
+  if (formats.empty()) formats = {"e7m16", "e8m23"};
+  if (baseline != "convert" && baseline != "resident")
+    throw UsageError("unknown --baseline '" + baseline + "'; accepted: convert, resident");
+  const bool resident = baseline == "resident";
+  if (n < 1 || n > (1u << 24)) throw UsageError("--n must be 1..16777216");
+  if (reps < 1 || reps > 1000) throw UsageError("--reps must be 1..1000");
+  if (!(min_time > 0 && min_time <= 10)) throw UsageError("--min-time must be in (0, 10]");
+  const ru::num::Round rm = ru::num::parse_round(round_text);
+  std::vector<Format> fmts;
+  for (const auto& s : formats) {
+    Format f = Format::parse(s);
+    f.round = rm;
+    fmts.push_back(f);
+  }
+
+  const Op ops[4] = {Op::Add, Op::Mul, Op::Div, Op::Fma};
+  double worst[4] = {1e300, 1e300, 1e300, 1e300};
+  std::printf(
+      "bench fp: one thread, %zu random normal operand sets (exponents -8..8, fewer for E < 6), rounding %s;\n"
+      "each figure: million operations per CPU-second, median of %d runs (>= %.2f s each, the variants\n"
+      "alternating). model = ru::num bit patterns in, bits + flags out. MPFR = operands held as mpfr_t at\n"
+      "precision M+1 with the format's emin/emax: operation + mpfr_subnormalize + flags. MPFR+cv = the same\n"
+      "plus mpfr_set_d of the operands and mpfr_get_d of the result (values in, value + flags out, like\n"
+      "the model). ratio = model / MPFR, ratio+cv = model / MPFR+cv. oracle = ru::num::mpfr_apply, the test\n"
+      "oracle (bits in/out). The ratio lines use %s.\n\n",
+      n, ru::num::round_name(rm), reps, min_time, resident ? "MPFR (--baseline resident)" : "MPFR+cv (--baseline convert)");
+  std::printf("%-8s %-5s %9s %9s %9s %9s %9s %9s\n", "format", "op", "model", "MPFR", "MPFR+cv", "ratio", "ratio+cv",
+              "oracle");
+  for (const Format& f : fmts) {
+    Operands o = make_operands(f, n, seed);
+    MpfrLoop mp(f);
+    mp.load(o);
+    double ratio[4];
+    for (int k = 0; k < 4; ++k) {
+      const Op op = ops[k];
+      // Same values on both sides, or the comparison means nothing.
+      std::vector<double> ref(n);
+      mp.pass(op, o, ref.data());
+      size_t bad = 0;
+      for (size_t i = 0; i < n; ++i) {
+        ru::num::Result r = ru::num::apply(f, op, o.a[i], o.b[i], o.c[i]);
+        if (ru::num::to_double(f, r.bits) != ref[i]) ++bad;
+      }
+      if (bad)
+        std::fprintf(stderr, "bench fp: warning: %s %s: model and MPFR differ on %zu of %zu operand sets\n",
+                     f.name().c_str(), ru::num::op_name(op), bad, n);
+      std::vector<std::function<void()>> passes = {[&] { model_pass(f, op, o); }, [&] { mp.resident_pass(op); },
+                                                   [&] { mp.pass(op, o, nullptr); }};
+      const size_t m = std::min<size_t>(n, 4096);
+      if (oracle) passes.push_back([&] { oracle_pass(f, op, o, m); });
+      std::vector<double> t = median_ns(passes, {n, n, n, m}, reps, min_time);
+      char oracle_text[32] = "-";
+      if (oracle) std::snprintf(oracle_text, sizeof oracle_text, "%.1f", 1e3 / t[3]);
+      ratio[k] = (resident ? t[1] : t[2]) / t[0];
+      worst[k] = std::min(worst[k], ratio[k]);
+      std::printf("%-8s %-5s %9.1f %9.1f %9.1f %8.1fx %8.1fx %9s\n", f.name().c_str(), ru::num::op_name(op),
+                  1e3 / t[0], 1e3 / t[1], 1e3 / t[2], t[1] / t[0], t[2] / t[0], oracle_text);
+      std::fflush(stdout);
+    }
+    std::printf("ratio[%s] add=%.1f mul=%.1f div=%.1f fma=%.1f\n", f.name().c_str(), ratio[0], ratio[1], ratio[2],
+                ratio[3]);
+  }
+  mpfr_free_cache();
+  std::printf("ratio add=%.1f mul=%.1f div=%.1f fma=%.1f\n", worst[0], worst[1], worst[2], worst[3]);
+  return 0;
+}
+
+}  // namespace
+
+RU_COMMAND("bench fp", "benchmark the number-format model against MPFR (ops/s, ratio)", run_bench_fp);
+
+}  // namespace ru::cli
