@@ -1,0 +1,103 @@
+// rayunits units: golden model of the ray-box unit (Williams et al. slab test as in Mirth's
+// ray_box_int, dissertation §2.1), one function template for double, float and Soft.
+//
+// Inputs: origin o, reciprocal direction inv (= 1/d, per component; +-INF for a zero
+// direction component), the interval [t_min, t_max], box [lo, hi]. Outputs: hit, t_enter,
+// t_exit.
+//
+// Dataflow per axis k (docs/UNITS.md "Dataflow" is the contract):
+//   neg_k  = sign bit of inv_k                       (bit select, not an FP op)
+//   near_k = neg_k ? hi_k : lo_k;  far_k = neg_k ? lo_k : hi_k   (mux)
+//   plain:        tn_k = (near_k - o_k) * inv_k;  tf_k = (far_k - o_k) * inv_k
+//   conservative: tn_k = RDN( (near_k - o_k)[neg_k ? RUP : RDN] * inv_k )
+//                 tf_k = RUP( (far_k  - o_k)[neg_k ? RDN : RUP] * inv_k )
+//                 i.e. the subtraction is rounded so the product is a lower (upper) bound:
+//                 with inv_k >= 0 a smaller difference gives a smaller product, with
+//                 inv_k < 0 a larger one. FTZ formats only: a directed result flushed to a
+//                 zero on the wrong side becomes +-min_normal (ftz_bound below).
+//   t_enter = max(max(max(t_min, tn_x), tn_y), tn_z)   (maxNum: NaN operands ignored)
+//   t_exit  = min(min(min(t_max, tf_x), tf_y), tf_z)   (minNum)
+//   hit = (t_enter <= t_exit) & (t_enter != +INF) & (t_exit != -INF) & !any_nan_input
+//
+// Defined special cases:
+//   * 0*INF: origin exactly on a slab plane of a ray parallel to that plane (d_k = 0, so
+//     inv_k = +-INF, and near_k - o_k = 0) gives tn_k or tf_k = NaN, which min/max ignore: the
+//     ray lies in the boundary plane of the CLOSED slab and that plane does not constrain t.
+//     This is also what Mirth's min/max do with a NaN.
+//   * an axis-parallel ray outside a slab gets tn = tf = +INF (or -INF): t_enter = +INF or
+//     t_exit = -INF, which the two INF terms reject even when t_max = +INF (t_min = -INF).
+//   * a NaN input (o, inv, lo, hi, t_min or t_max): miss. (NaN detection = exponent all ones
+//     and fraction != 0 on each input; a bit test, not an FP op.)
+// Conservative mode never misses a box that the exact slab test (units/exact.hpp,
+// exact_slab) hits for the same input values: every tn_k is <= the exact value, every tf_k
+// >= it, a NaN term only widens the interval, and RDN/RUP never round a finite bound across
+// the wrong infinity (proof in docs/UNITS.md; property tests in tests/units).
+#pragma once
+
+#include "rayunits/num/fp.hpp"
+#include "rayunits/units/vec.hpp"
+
+namespace ru::units {
+
+enum class BoxMode : uint8_t { Plain = 0, Conservative = 1 };
+
+template <class T>
+struct BoxResult {
+  bool hit = false;
+  T t_enter{}, t_exit{};
+};
+
+// Flush-to-zero formats flush a tiny result to zero of its sign whatever the rounding mode,
+// which is not a bound in the wrong direction (RUP of a tiny positive value gives +0). The
+// conservative unit replaces such a result by the smallest normal of the same sign: selected
+// by the operation's underflow flag, the zero result and its sign (a mux, no FP op). With
+// subnormals a directed result is never a flushed zero, so this is a no-op there.
+template <class T>
+T ftz_bound(T x, uint8_t flags, ru::num::Round r) {
+  using namespace ru::num;
+  const Format f = fp_format<T>();
+  const uint64_t b = fp_bits(x);
+  const bool is_zero = (b & ~f.sign_bit()) == 0;
+  const bool negz = (b & f.sign_bit()) != 0;
+  if ((flags & kUnderflow) && is_zero && ((r == Round::RUP && !negz) || (r == Round::RDN && negz)))
+    return fp_from_bits<T>(f.min_normal(negz));
+  return x;
+}
+
+template <class T>
+BoxResult<T> ray_box(const Vec3<T>& o, const Vec3<T>& inv, const Vec3<T>& lo, const Vec3<T>& hi,
+                     T t_min, T t_max, BoxMode mode = BoxMode::Plain) {
+  using namespace ru::num;
+  BoxResult<T> r;
+  bool any_nan = fp_isnan(t_min) || fp_isnan(t_max);
+  T tn[3], tf[3];
+  for (int k = 0; k < 3; ++k) {
+    any_nan = any_nan || fp_isnan(o[k]) || fp_isnan(inv[k]) || fp_isnan(lo[k]) || fp_isnan(hi[k]);
+    const bool neg = fp_signbit(inv[k]);
+    const T near_plane = neg ? hi[k] : lo[k];
+    const T far_plane = neg ? lo[k] : hi[k];
+    if (mode == BoxMode::Plain) {
+      tn[k] = (near_plane - o[k]) * inv[k];
+      tf[k] = (far_plane - o[k]) * inv[k];
+    } else {
+      const Round rn = neg ? Round::RUP : Round::RDN, rf = neg ? Round::RDN : Round::RUP;
+      uint8_t fl[4] = {0, 0, 0, 0};
+      T dn = fp_sub_round(near_plane, o[k], rn, &fl[0]);
+      dn = ftz_bound(dn, fl[0], rn);
+      T df = fp_sub_round(far_plane, o[k], rf, &fl[1]);
+      df = ftz_bound(df, fl[1], rf);
+      tn[k] = fp_mul_round(dn, inv[k], Round::RDN, &fl[2]);
+      tn[k] = ftz_bound(tn[k], fl[2], Round::RDN);
+      tf[k] = fp_mul_round(df, inv[k], Round::RUP, &fl[3]);
+      tf[k] = ftz_bound(tf[k], fl[3], Round::RUP);
+    }
+  }
+  r.t_enter = fp_max(fp_max(fp_max(t_min, tn[0]), tn[1]), tn[2]);
+  r.t_exit = fp_min(fp_min(fp_min(t_max, tf[0]), tf[1]), tf[2]);
+  r.hit = !any_nan && r.t_enter <= r.t_exit && !fp_is_pos_inf(r.t_enter) && !fp_is_neg_inf(r.t_exit);
+  r.t_enter = fp_canon(r.t_enter);
+  r.t_exit = fp_canon(r.t_exit);
+  return r;
+}
+
+}  // namespace ru::units

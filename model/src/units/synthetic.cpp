@@ -1,0 +1,137 @@
+// Synthetic ray-triangle and ray-box workloads (see units/synthetic.hpp).
+#include "rayunits/units/synthetic.hpp"
+
+#include <cmath>
+
+namespace ru::units {
+
+namespace {
+uint64_t splitmix64(uint64_t& x) {
+  uint64_t z = (x += 0x9e3779b97f4a7c15ull);
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+  return z ^ (z >> 31);
+}
+inline uint64_t rotl(uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
+
+Vec3d add(const Vec3d& a, const Vec3d& b) { return {a.x + b.x, a.y + b.y, a.z + b.z}; }
+Vec3d scale(const Vec3d& a, double s) { return {a.x * s, a.y * s, a.z * s}; }
+Vec3d normalize(const Vec3d& v) {
+  const double n = std::sqrt(v.x * v.x + v.y * v.y + v.z * v.z);
+  return {v.x / n, v.y / n, v.z / n};
+}
+}  // namespace
+
+Rng::Rng(uint64_t seed) {
+  uint64_t x = seed;
+  for (auto& s : s_) s = splitmix64(x);
+}
+
+uint64_t Rng::next() {
+  const uint64_t result = rotl(s_[1] * 5, 7) * 9;
+  const uint64_t t = s_[1] << 17;
+  s_[2] ^= s_[0];
+  s_[3] ^= s_[1];
+  s_[1] ^= s_[2];
+  s_[0] ^= s_[3];
+  s_[2] ^= t;
+  s_[3] = rotl(s_[3], 45);
+  return result;
+}
+
+double Rng::uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
+double Rng::uniform(double lo, double hi) { return lo + (hi - lo) * uniform(); }
+
+uint64_t Rng::below(uint64_t n) {
+  // Lemire-free simple rejection: unbiased.
+  const uint64_t limit = UINT64_MAX - UINT64_MAX % n;
+  uint64_t x;
+  do x = next();
+  while (x >= limit);
+  return x % n;
+}
+
+Vec3d Rng::unit_vector() {
+  for (;;) {
+    Vec3d v{uniform(-1, 1), uniform(-1, 1), uniform(-1, 1)};
+    const double n2 = v.x * v.x + v.y * v.y + v.z * v.z;
+    if (n2 > 1e-6 && n2 <= 1.0) return normalize(v);
+  }
+}
+
+std::vector<TriRecord> synth_tri(const SynthTriOptions& o) {
+  Rng rng(o.seed);
+  const double lo = 1.0 - std::sqrt(2.0);  // u, v in [lo, 1]: P(inside) = 0.5 / 2 = 1/4
+  std::vector<TriRecord> out;
+  out.reserve(o.triangles * o.rays_per_packet);
+  for (size_t i = 0; i < o.triangles; ++i) {
+    const Vec3d c{rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)};
+    Vec3d p[3];
+    for (auto& v : p) v = add(c, {rng.uniform(-0.5, 0.5), rng.uniform(-0.5, 0.5), rng.uniform(-0.5, 0.5)});
+    const Vec3d a = scale(rng.unit_vector(), 5.0);
+    const double s = o.log2_spread > 0 ? o.scale * std::exp2(rng.uniform(-o.log2_spread, o.log2_spread)) : o.scale;
+    for (size_t j = 0; j < o.rays_per_packet; ++j) {
+      const double u = rng.uniform(lo, 1.0), v = rng.uniform(lo, 1.0);
+      Vec3d target;
+      for (int k = 0; k < 3; ++k) target[k] = p[0][k] + u * (p[1][k] - p[0][k]) + v * (p[2][k] - p[0][k]);
+      TriRecord r;
+      r.a = scale(a, s);
+      r.d = normalize({target.x - a.x, target.y - a.y, target.z - a.z});
+      r.p0 = scale(p[0], s);
+      r.p1 = scale(p[1], s);
+      r.p2 = scale(p[2], s);
+      r.t_min = 0.0;
+      r.t_max = INFINITY;
+      out.push_back(r);
+    }
+  }
+  return out;
+}
+
+std::vector<BoxRecord> synth_box(const SynthBoxOptions& o) {
+  Rng rng(o.seed);
+  std::vector<BoxRecord> out;
+  out.reserve(o.boxes * o.rays_per_packet);
+  for (size_t i = 0; i < o.boxes; ++i) {
+    const Vec3d c{rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1)};
+    const Vec3d h{rng.uniform(0.05, 0.5), rng.uniform(0.05, 0.5), rng.uniform(0.05, 0.5)};
+    Vec3d lo, hi;
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = (c[k] - h[k]) * o.scale;
+      hi[k] = (c[k] + h[k]) * o.scale;
+    }
+    const Vec3d packet_origin = scale(rng.unit_vector(), 5.0);
+    for (size_t j = 0; j < o.rays_per_packet; ++j) {
+      Vec3d a = packet_origin;
+      if (rng.uniform() < o.inside_fraction)
+        for (int k = 0; k < 3; ++k) a[k] = c[k] + rng.uniform(-h[k], h[k]);
+      Vec3d target;
+      for (int k = 0; k < 3; ++k) target[k] = c[k] + 1.6 * rng.uniform(-h[k], h[k]);
+      Vec3d d = normalize({target.x - a.x, target.y - a.y, target.z - a.z});
+      BoxRecord r;
+      r.o = scale(a, o.scale);
+      if (rng.uniform() < o.axis_parallel_fraction) {
+        // One or two direction components exactly zero; keep the others pointing at target.
+        const int zeros = 1 + static_cast<int>(rng.below(2));
+        const int first = static_cast<int>(rng.below(3));
+        for (int z = 0; z < zeros; ++z) {
+          const int k = (first + z) % 3;
+          d[k] = rng.uniform() < 0.5 ? 0.0 : -0.0;
+          // The ray's k coordinate stays put: start it inside the slab range most of the time.
+          r.o[k] = (c[k] + 1.4 * rng.uniform(-h[k], h[k])) * o.scale;
+          if (rng.uniform() < o.on_plane_fraction) r.o[k] = rng.uniform() < 0.5 ? lo[k] : hi[k];
+        }
+        if (d.x == 0 && d.y == 0 && d.z == 0) d.x = 1.0;
+      }
+      for (int k = 0; k < 3; ++k) r.inv[k] = 1.0 / d[k];  // +-INF for +-0
+      r.lo = lo;
+      r.hi = hi;
+      r.t_min = 0.0;
+      r.t_max = rng.uniform() < o.finite_tmax_fraction ? rng.uniform(0.5, 8.0) * o.scale : INFINITY;
+      out.push_back(r);
+    }
+  }
+  return out;
+}
+
+}  // namespace ru::units

@@ -1,0 +1,247 @@
+// ray_box golden model: defined special cases, float == e8m23, and the conservative mode's
+// never-miss guarantee against the exact slab test (property tests with adversarial rays).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iomanip>
+#include <string>
+
+#include "rayunits/num/fp.hpp"
+#include "rayunits/units/exact.hpp"
+#include "rayunits/units/ray_box.hpp"
+#include "rayunits/units/synthetic.hpp"
+
+using namespace ru::units;
+using ru::num::Format;
+using ru::num::Soft;
+using ru::num::SoftScope;
+
+namespace {
+
+template <class T>
+BoxResult<T> run(const BoxRecord& r, BoxMode m) {
+  return ray_box(vcast<T>(r.o), vcast<T>(r.inv), vcast<T>(r.lo), vcast<T>(r.hi), ru::num::fp_cast<T>(r.t_min),
+                 ru::num::fp_cast<T>(r.t_max), m);
+}
+
+BoxRecord unit_box_ray(Vec3d o, Vec3d d) {
+  BoxRecord r;
+  r.o = o;
+  for (int k = 0; k < 3; ++k) r.inv[k] = 1.0 / d[k];
+  r.lo = {0, 0, 0};
+  r.hi = {1, 1, 1};
+  return r;
+}
+
+TEST(UnitsBox, BasicAndSpecialCases) {
+  for (BoxMode m : {BoxMode::Plain, BoxMode::Conservative}) {
+    // Straight hit.
+    auto h = run<double>(unit_box_ray({-1, 0.5, 0.5}, {1, 0, 0}), m);
+    EXPECT_TRUE(h.hit);
+    EXPECT_EQ(h.t_enter, 1.0);
+    EXPECT_EQ(h.t_exit, 2.0);
+    // Axis-parallel ray outside a slab: INF terms; a miss also with t_max = +INF.
+    h = run<double>(unit_box_ray({-1, 2, 0.5}, {1, 0, 0}), m);
+    EXPECT_FALSE(h.hit);
+    h = run<double>(unit_box_ray({-1, -2, 0.5}, {1, -0.0, 0}), m);
+    EXPECT_FALSE(h.hit);
+    // 0*INF: the ray lies in the plane y = 0 of the box face (d.y = 0, o.y = lo.y): the closed
+    // slab contains it, so it hits; same for the far plane y = 1 and for -0 directions.
+    for (double y : {0.0, 1.0})
+      for (double dy : {0.0, -0.0}) {
+        BoxRecord r = unit_box_ray({-1, y, 0.5}, {1, dy, 0});
+        h = run<double>(r, m);
+        EXPECT_TRUE(h.hit) << y << " " << dy;
+        EXPECT_TRUE(exact_slab(r.o, r.inv, r.lo, r.hi, r.t_min, r.t_max).hit);
+        EXPECT_EQ(h.t_enter, 1.0);
+        EXPECT_EQ(h.t_exit, 2.0);
+      }
+    // Ray inside the box: t_enter = t_min.
+    h = run<double>(unit_box_ray({0.5, 0.5, 0.5}, {1, 1, 1}), m);
+    EXPECT_TRUE(h.hit);
+    EXPECT_EQ(h.t_enter, 0.0);
+    // Box behind the ray, box beyond t_max.
+    EXPECT_FALSE(run<double>(unit_box_ray({2, 0.5, 0.5}, {1, 0, 0}), m).hit);
+    BoxRecord far = unit_box_ray({-1, 0.5, 0.5}, {1, 0, 0});
+    far.t_max = 0.5;
+    EXPECT_FALSE(run<double>(far, m).hit);
+    far.t_max = 1.0;  // touching: closed interval
+    EXPECT_TRUE(run<double>(far, m).hit);
+    // NaN anywhere: miss.
+    for (int field = 0; field < 6; ++field) {
+      BoxRecord r = unit_box_ray({-1, 0.5, 0.5}, {1, 0.1, 0.1});
+      switch (field) {
+        case 0: r.o.y = NAN; break;
+        case 1: r.inv.z = NAN; break;
+        case 2: r.lo.x = NAN; break;
+        case 3: r.hi.y = NAN; break;
+        case 4: r.t_min = NAN; break;
+        default: r.t_max = NAN; break;
+      }
+      EXPECT_FALSE(run<double>(r, m).hit) << field;
+      EXPECT_FALSE(run<float>(r, m).hit) << field;
+      EXPECT_FALSE(exact_slab(r.o, r.inv, r.lo, r.hi, r.t_min, r.t_max).hit);
+    }
+    // A flat box (lo.z == hi.z) hit by a ray in its plane.
+    BoxRecord flat = unit_box_ray({-1, 0.5, 0.25}, {1, 0, 0});
+    flat.lo.z = flat.hi.z = 0.25;
+    EXPECT_TRUE(run<double>(flat, m).hit);
+  }
+}
+
+// Regression (found by LongUnitsBox): in a flush-to-zero format the far-plane difference
+// -1.5e-5 is tiny; RDN flushes it to -0, which is not a lower bound. The conservative unit
+// must replace it by -min_normal, or t_exit becomes 0 and the box is missed.
+TEST(UnitsBox, ConservativeFlushToZeroBound) {
+  const Format f = Format::parse("e5m10-ftz");
+  SoftScope sc(f);
+  BoxRecord r;
+  r.o = {-0.023040771484375, -0.03875732421875, -0.021820068359375};
+  r.inv = {-2.052734375, 1.1455078125, -8248};
+  r.lo = {-0.06500244140625, 0.0303192138671875, -0.0218353271484375};
+  r.hi = {-0.04388427734375, 0.091796875, 0.01477813720703125};
+  r.t_min = 0.05926513671875;
+  ASSERT_TRUE(exact_slab(r.o, r.inv, r.lo, r.hi, r.t_min, r.t_max).hit);
+  EXPECT_TRUE(run<Soft>(r, BoxMode::Conservative).hit);
+  EXPECT_EQ(ftz_bound(Soft::from_bits(f.neg_zero()), ru::num::kUnderflow | ru::num::kInexact, ru::num::Round::RDN).bits,
+            f.min_normal(true));
+  EXPECT_EQ(ftz_bound(Soft::from_bits(f.pos_zero()), ru::num::kUnderflow | ru::num::kInexact, ru::num::Round::RUP).bits,
+            f.min_normal(false));
+  // Right-side zeros and exact zeros stay.
+  EXPECT_EQ(ftz_bound(Soft::from_bits(f.pos_zero()), ru::num::kUnderflow | ru::num::kInexact, ru::num::Round::RDN).bits, 0u);
+  EXPECT_EQ(ftz_bound(Soft::from_bits(f.pos_zero()), 0, ru::num::Round::RUP).bits, 0u);
+}
+
+template <class T>
+void expect_same(const BoxResult<T>& x, const BoxResult<Soft>& s) {
+  EXPECT_EQ(x.hit, s.hit);
+  EXPECT_EQ(ru::num::fp_bits(x.t_enter), s.t_enter.bits);
+  EXPECT_EQ(ru::num::fp_bits(x.t_exit), s.t_exit.bits);
+}
+
+TEST(UnitsBox, NativeEqualsSoftBitForBit) {
+  SynthBoxOptions o;
+  o.boxes = 100;
+  o.seed = 4;
+  for (const BoxRecord& r : synth_box(o))
+    for (BoxMode m : {BoxMode::Plain, BoxMode::Conservative}) {
+      {
+        SoftScope sc(Format::parse("e8m23"));
+        expect_same(run<float>(r, m), run<Soft>(r, m));
+      }
+      {
+        SoftScope sc(Format::parse("e11m52"));
+        expect_same(run<double>(r, m), run<Soft>(r, m));
+      }
+    }
+}
+
+// Adversarial records for a format: rays aimed exactly at box corners, edges and faces from
+// far away (the intervals touch within an ulp), grazing rays along faces, axis-parallel rays
+// on slab planes, tiny and huge boxes. All values are representable in the format.
+std::vector<BoxRecord> adversarial(const Format& f, uint64_t seed, size_t n) {
+  Rng rng(seed);
+  std::vector<BoxRecord> out;
+  SoftScope sc(f);
+  auto q = [&](double x) { return Soft::from_double(x).to_double(); };
+  const double maxf = ru::num::to_double(f, f.max_finite());
+  for (size_t i = 0; i < n; ++i) {
+    const double scale = std::ldexp(1.0, static_cast<int>(rng.below(9)) - 4);
+    BoxRecord r;
+    for (int k = 0; k < 3; ++k) {
+      double c = rng.uniform(-1, 1) * scale, h = rng.uniform(0.01, 0.5) * scale;
+      r.lo[k] = q(c - h);
+      r.hi[k] = q(c + h);
+    }
+    // Target: a corner, an edge point or a face point of the box, maybe nudged by an ulp.
+    Vec3d target;
+    const int kind = static_cast<int>(rng.below(3));
+    for (int k = 0; k < 3; ++k) {
+      const bool free_coord = (kind == 1 && k == 0) || (kind == 2 && k != 2);
+      target[k] = free_coord ? q(rng.uniform(r.lo[k], r.hi[k])) : (rng.below(2) ? r.lo[k] : r.hi[k]);
+    }
+    Vec3d d = rng.unit_vector();
+    if (rng.below(4) == 0) d[static_cast<int>(rng.below(3))] = rng.below(2) ? 0.0 : -0.0;  // grazing
+    const double dist = rng.uniform(0.5, 4) * scale;
+    for (int k = 0; k < 3; ++k) {
+      r.o[k] = q(target[k] - dist * d[k]);
+      double inv = 1.0 / q(d[k]);
+      if (std::fabs(inv) > maxf) inv = std::copysign(INFINITY, inv);
+      r.inv[k] = q(inv);
+    }
+    r.t_min = rng.below(3) == 0 ? q(rng.uniform(0, 1) * dist) : 0.0;
+    r.t_max = rng.below(3) == 0 ? q(rng.uniform(0.5, 2) * dist) : INFINITY;
+    out.push_back(r);
+  }
+  return out;
+}
+
+struct BoxCounts {
+  size_t exact_hits = 0, cons_false_miss = 0, plain_false_miss = 0, plain_false_hit = 0;
+};
+
+BoxCounts check_format(const Format& f, size_t n, uint64_t seed, BoxMode cons_mode, bool report = true) {
+  BoxCounts c;
+  SynthBoxOptions so;
+  so.boxes = n / 16;
+  so.seed = seed;
+  auto recs = synth_box(so);
+  auto adv = adversarial(f, seed + 1, n);
+  recs.insert(recs.end(), adv.begin(), adv.end());
+  SoftScope sc(f);
+  for (const BoxRecord& rec : recs) {
+    const Vec3<Soft> o = vcast<Soft>(rec.o), inv = vcast<Soft>(rec.inv), lo = vcast<Soft>(rec.lo),
+                     hi = vcast<Soft>(rec.hi);
+    const Soft tmin = Soft::from_double(rec.t_min), tmax = Soft::from_double(rec.t_max);
+    const Vec3d od = vdouble(o), lod = vdouble(lo), hid = vdouble(hi);
+    bool finite = true;
+    for (int k = 0; k < 3; ++k) finite = finite && std::isfinite(od[k]) && std::isfinite(lod[k]) && std::isfinite(hid[k]);
+    if (!finite) continue;
+    const bool exact = exact_slab(od, vdouble(inv), lod, hid, tmin.to_double(), tmax.to_double()).hit;
+    const bool cons = ray_box(o, inv, lo, hi, tmin, tmax, cons_mode).hit;
+    const bool plain = ray_box(o, inv, lo, hi, tmin, tmax, BoxMode::Plain).hit;
+    c.exact_hits += exact;
+    if (report && exact && !cons && c.cons_false_miss < 3) {
+      const auto res = ray_box(o, inv, lo, hi, tmin, tmax, cons_mode);
+      ADD_FAILURE() << f.name() << " false miss: o=" << od.x << "," << od.y << "," << od.z << " inv="
+                    << vdouble(inv).x << "," << vdouble(inv).y << "," << vdouble(inv).z << " lo=" << lod.x << ","
+                    << lod.y << "," << lod.z << " hi=" << hid.x << "," << hid.y << "," << hid.z << " t=["
+                    << tmin.to_double() << "," << tmax.to_double() << "] model t_enter=" << res.t_enter.to_double()
+                    << " t_exit=" << res.t_exit.to_double();
+    }
+    c.cons_false_miss += exact && !cons;
+    c.plain_false_miss += exact && !plain;
+    c.plain_false_hit += !exact && plain;
+  }
+  return c;
+}
+
+TEST(UnitsBox, ConservativeNeverMisses) {
+  for (const char* name : {"e4m3", "e5m10", "e6m9", "e7m16", "e8m23", "e5m10-ftz", "e8m7-ftz"}) {
+    const BoxCounts c = check_format(Format::parse(name), 3000, 21, BoxMode::Conservative);
+    EXPECT_EQ(c.cons_false_miss, 0u) << name;
+    EXPECT_GT(c.exact_hits, 500u) << name;
+    SCOPED_TRACE(name);
+  }
+}
+
+// The property test must be able to fail: the plain test (round to nearest) in place of the
+// conservative one misses boxes on the same adversarial workload.
+TEST(UnitsBox, NeverMissCheckerCatchesPlainRounding) {
+  size_t misses = 0;
+  for (const char* name : {"e5m10", "e7m16"})
+    misses += check_format(Format::parse(name), 3000, 21, BoxMode::Plain, false).cons_false_miss;
+  EXPECT_GT(misses, 0u);
+}
+
+TEST(LongUnitsBox, ConservativeNeverMissesMany) {
+  for (const char* name : {"e3m2", "e4m3", "e5m2", "e5m10", "e6m12", "e7m16", "e8m23", "e11m52", "e5m10-ftz",
+                           "e7m16-ftz"}) {
+    for (uint64_t seed = 100; seed < 104; ++seed) {
+      const BoxCounts c = check_format(Format::parse(name), 50000, seed, BoxMode::Conservative);
+      EXPECT_EQ(c.cons_false_miss, 0u) << name << " seed " << seed;
+    }
+  }
+}
+
+}  // namespace
