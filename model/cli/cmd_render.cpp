@@ -1,0 +1,106 @@
+// rayunits render: one image of a scene in a chosen arithmetic format.
+#include <cstdio>
+
+#include "cli_util.hpp"
+#include "rayunits/report/report.hpp"
+#include "render_common.hpp"
+
+namespace ru::render {
+std::string report_render_section(ru::report::Context& ctx);  // model/src/render/report_render.cpp
+}
+
+namespace ru::cli {
+namespace {
+
+int run_render(int argc, char** argv) {
+  CLI::App app{"Render a scene (Mirth-style: primary rays, hard shadows, Lambert + ambient, noise materials)"};
+  SceneArgs sa;
+  sa.add(app);
+  std::string format = "float", tri = "robust", box = "plain", bvh = "sah", noise = "float", size = "512x512";
+  std::string out, trace_out, diff_out;
+  uint64_t trace_limit = 0;
+  int threads = 2, leaf = 4;
+  bool no_shadows = false, compare = false, quiet = false;
+  app.add_option("--format", format, "double | float | eXmY[-ftz] (emulated format)");
+  app.add_option("--tri", tri, "ray-triangle unit: robust | mt");
+  app.add_option("--box", box, "ray-box unit: plain | conservative");
+  app.add_option("--bvh", bvh, "BVH build: sah (binned SAH) | median (Mirth)");
+  app.add_option("--leaf", leaf, "max triangles per leaf (median: a node with fewer becomes a leaf)");
+  app.add_option("--noise", noise, "noise model of procedural materials: float | fixed (hardware unit)");
+  app.add_option("--size", size, "image size WxH (or N)");
+  app.add_option("--threads", threads, "render threads")->check(CLI::Range(1, 64));
+  app.add_flag("--no-shadows", no_shadows, "primary rays only");
+  app.add_option("--out", out, "output PNG")->required();
+  app.add_option("--trace-out", trace_out, "write the tested ray/box and ray/tri pairs (trace format of docs/UNITS.md)");
+  app.add_option("--trace-limit", trace_limit, "stop the trace after this many records (0: all)");
+  app.add_flag("--compare", compare, "also render in double and print errors / PSNR against it");
+  app.add_option("--diff-out", diff_out, "with --compare: write the error map PNG here");
+  app.add_flag("--quiet", quiet, "no progress lines");
+  if (!parse_args(app, argc, argv)) return 0;
+
+  render::RenderOptions opt;
+  parse_size(size, &opt.width, &opt.height);
+  opt.format = format;
+  opt.tri = parse_or_usage([&] { return render::parse_tri(tri); });
+  opt.box = parse_or_usage([&] { return render::parse_box(box); });
+  opt.bvh = parse_or_usage([&] { return render::parse_bvh(bvh); });
+  opt.noise = parse_or_usage([&] { return render::parse_noise(noise); });
+  opt.leaf_size = leaf;
+  opt.threads = threads;
+  opt.shadows = !no_shadows;
+  opt.progress = !quiet;
+  opt.trace_path = trace_out;
+  opt.trace_limit = trace_limit;
+  if (leaf < 1 || leaf > 64) throw UsageError("--leaf must be 1..64");
+  if (format != "double" && format != "float") ru::num::Format::parse(format);  // early one-line error
+
+  const scene::Scene s = sa.load();
+  render::RenderStats st;
+  const render::Image img = render::render(s, opt, &st);
+  render::write_png(out, img);
+  const double rays = double(st.primary_rays + st.shadow_rays);
+  std::printf("scene %s: %zu triangles, %zu BVH nodes (%s, SAH cost %.2f)\n", s.name.c_str(), s.tris.size(),
+              st.bvh_nodes, render::bvh_name(opt.bvh), st.sah_cost);
+  std::printf("format %s, tri %s, box %s, %dx%d, %d thread(s): build %.3f s, render %.3f s (%.2f frames/s, %.2f Mrays/s; CPU %.3f s)\n",
+              format.c_str(), tri.c_str(), box.c_str(), opt.width, opt.height, trace_out.empty() ? threads : 1,
+              st.build_seconds, st.render_seconds, 1.0 / st.render_seconds, rays / st.render_seconds / 1e6,
+              st.render_cpu_seconds);
+  std::printf("rays: %llu primary, %llu shadow; tests: %llu ray-box, %llu ray-tri; noise evaluations: %llu\n",
+              (unsigned long long)st.primary_rays, (unsigned long long)st.shadow_rays,
+              (unsigned long long)st.box_tests, (unsigned long long)st.tri_tests, (unsigned long long)st.noise_evals);
+  if (st.soft.ops)
+    std::printf("emulated ops: %llu (overflow %llu, underflow %llu, invalid %llu, divzero %llu)\n",
+                (unsigned long long)st.soft.ops, (unsigned long long)st.soft.overflow,
+                (unsigned long long)st.soft.underflow, (unsigned long long)st.soft.invalid,
+                (unsigned long long)st.soft.divzero);
+  if (!trace_out.empty())
+    std::printf("trace %s: %llu ray-box, %llu ray-tri records%s\n", trace_out.c_str(),
+                (unsigned long long)st.trace_boxes, (unsigned long long)st.trace_tris,
+                st.trace_truncated ? " (truncated at --trace-limit)" : "");
+  std::printf("wrote %s\n", out.c_str());
+  if (compare) {
+    render::RenderOptions ro = opt;
+    ro.format = "double";
+    ro.trace_path.clear();
+    const render::Image ref = render::render(s, ro);
+    const render::ImageDiff d = render::compare(img, ref);
+    std::printf("vs double: %llu pixels more than 10%% different (%.3f%%), PSNR %.1f dB\n",
+                (unsigned long long)d.errors, 100.0 * d.errors / d.pixels, d.psnr);
+    if (!diff_out.empty()) {
+      render::write_png(diff_out, render::error_map(img, ref));
+      std::printf("wrote %s\n", diff_out.c_str());
+    }
+  }
+  return 0;
+}
+
+}  // namespace
+
+RU_COMMAND("render", "render a scene in a chosen format (double, float, eXmY) to PNG", run_render);
+
+// Report section (here because registrations must be linked straight into the executable).
+// Params: --param render.scene=NAME, render.size=N, render.sa_iters=N.
+RU_REPORT_SECTION("render", "Reduced-precision renders, scene profile and BVH rotations", 600,
+                  &ru::render::report_render_section, true, true);
+
+}  // namespace ru::cli

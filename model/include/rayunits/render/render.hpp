@@ -1,0 +1,92 @@
+// Mirth-style renderer (dissertation §2.1) over a selectable arithmetic type: primary rays,
+// hard shadows, Lambert + ambient shading, procedural noise materials (§4.1).
+//
+// --format double | float | eXmY[-ftz]: with eXmY every arithmetic operation of ray
+// generation, traversal (the ray-box unit model, units/ray_box.hpp), intersection (the
+// ray-triangle unit models, units/ray_tri.hpp) and shading is one operation of the emulated
+// format (ru::num::Soft). The BVH's boxes are recomputed in the format from the triangles
+// rounded into it (min/max: exact); the Mirth median-split build runs entirely in the format,
+// the binned-SAH build chooses its split planes in double (see docs/RENDER.md).
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "rayunits/bvh/bvh.hpp"
+#include "rayunits/num/fp.hpp"
+#include "rayunits/render/arith.hpp"
+#include "rayunits/scene/scene.hpp"
+#include "rayunits/units/ray_box.hpp"
+
+namespace ru::render {
+
+enum class TriAlgo : uint8_t { Robust, MT };
+enum class BvhKind : uint8_t { Sah, Median };
+enum class NoiseMode : uint8_t { Float, Fixed };  // NoiseRef::half in double, or FixedNoise
+
+TriAlgo parse_tri(const std::string& s);      // "robust" | "mt"; throws std::invalid_argument
+BvhKind parse_bvh(const std::string& s);      // "sah" | "median"
+NoiseMode parse_noise(const std::string& s);  // "float" | "fixed"
+units::BoxMode parse_box(const std::string& s);  // "plain" | "conservative"
+const char* tri_name(TriAlgo a);
+const char* bvh_name(BvhKind k);
+
+struct RenderOptions {
+  int width = 512, height = 512;
+  std::string format = "float";  // double | float | eXmY[-ftz] (validated by render())
+  TriAlgo tri = TriAlgo::Robust;
+  units::BoxMode box = units::BoxMode::Plain;
+  BvhKind bvh = BvhKind::Sah;
+  int leaf_size = 4;  // SAH: max triangles per leaf; median: Mirth's max_tris_per_leaf
+  NoiseMode noise = NoiseMode::Float;
+  bool shadows = true;
+  int threads = 2;
+  bool progress = false;        // progress lines on stderr
+  std::string trace_path;       // non-empty: write the tested ray/box and ray/tri pairs
+  uint64_t trace_limit = 0;     // stop recording after this many records (0: no limit)
+  const bvh::Bvh* topology = nullptr;  // use this tree's structure instead of building one
+  ExpHistogram* profile_all = nullptr;     // format "probe": every computed value
+  ExpHistogram* profile_inputs = nullptr;  // format "probe": the units' operands
+};
+
+struct Image {
+  int width = 0, height = 0;
+  std::vector<float> rgb;  // linear colour, clamped to [0, 1], row-major from the top
+  float* at(int x, int y) { return &rgb[3 * (static_cast<size_t>(y) * width + x)]; }
+  const float* at(int x, int y) const { return &rgb[3 * (static_cast<size_t>(y) * width + x)]; }
+};
+
+struct RenderStats {
+  std::string format;
+  double build_seconds = 0, render_seconds = 0;
+  double render_cpu_seconds = 0;  // process CPU time of the render phase (all threads)
+  uint64_t primary_rays = 0, shadow_rays = 0, box_tests = 0, tri_tests = 0, noise_evals = 0;
+  uint64_t trace_boxes = 0, trace_tris = 0;
+  bool trace_truncated = false;
+  size_t bvh_nodes = 0;
+  double sah_cost = 0;
+  num::SoftStats soft;  // flag counts of the emulated arithmetic (eXmY only)
+};
+
+// Renders the scene. format "probe" runs in double and fills opt.profile_* (scene profile).
+// Throws ru::num::FormatError for a bad format name, std::invalid_argument for bad sizes,
+// units::TraceError when the trace file cannot be written.
+Image render(const scene::Scene& s, const RenderOptions& opt, RenderStats* stats = nullptr);
+
+// Image comparison as in Tables 3.5/3.6: a pixel is an error when some colour channel differs
+// from the reference by more than 10 % of full scale; PSNR over all channels, peak 1.
+struct ImageDiff {
+  uint64_t pixels = 0, errors = 0;  // errors: pixels more than 10 % different
+  double mse = 0, psnr = 0;         // psnr = +inf for identical images
+  double max_abs = 0;
+};
+ImageDiff compare(const Image& test, const Image& ref, double threshold = 0.1);
+
+// PNG output (stb_image_write): 8 bits per channel, value*255 rounded.
+void write_png(const std::string& path, const Image& img);  // throws std::runtime_error
+// Images side by side (same height) with a 4-pixel grey gap.
+Image hconcat(const std::vector<const Image*>& images);
+// Error map: black where the pixel is within the threshold, the test pixel elsewhere tinted red.
+Image error_map(const Image& test, const Image& ref, double threshold = 0.1);
+
+}  // namespace ru::render

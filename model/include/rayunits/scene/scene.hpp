@@ -1,0 +1,95 @@
+// Scenes: triangle soups with materials, a pinhole camera and one point light (Mirth, §2.1).
+//
+// Built-in procedural scenes need no files (make_scene); meshes load through Assimp
+// (load_mesh). Every scene may be scaled by a power of ten with the suffix "@<factor>"
+// ("default@1e-6"): geometry, camera, light and the epsilon scale together, while
+// procedural textures are evaluated in unscaled object coordinates, so the scaled image is
+// the same picture and only the numbers differ (the point of the 1e-6 / 1e+6 variants).
+#pragma once
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "rayunits/scene/vec.hpp"
+
+namespace ru::scene {
+
+// One-line error for unknown scene names, unreadable or malformed mesh files.
+class SceneError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+enum class MaterialKind : uint8_t {
+  Constant,    // colour only
+  Marble,      // bands of sin-free triangle wave perturbed by turbulence (noise)
+  Wood,        // rings around the z axis perturbed by noise
+  Turbulence,  // colour blend by |noise| summed over octaves (granite-like)
+};
+const char* material_kind_name(MaterialKind k);
+inline bool is_procedural(MaterialKind k) { return k != MaterialKind::Constant; }
+
+struct Material {
+  std::string name;
+  MaterialKind kind = MaterialKind::Constant;
+  Vec3 color{0.8, 0.8, 0.8};   // base colour (rgb in [0,1])
+  Vec3 color2{0.2, 0.2, 0.2};  // second colour of procedural patterns
+  double frequency = 1.0;      // texture-space frequency (per unscaled scene unit)
+};
+
+struct Triangle {
+  Vec3 p[3];
+  uint32_t material = 0;
+};
+
+struct Camera {
+  Vec3 eye{0, -4, 1}, look_at{0, 0, 0}, up{0, 0, 1};
+  double fov_deg = 40.0;  // vertical field of view
+};
+
+struct Scene {
+  std::string name;
+  std::vector<Triangle> tris;
+  std::vector<Material> materials;
+  Camera camera;
+  Vec3 light{0, 0, 10};
+  double unit = 1.0;  // length of one "scene unit" (the @ scale factor): epsilon = 1e-3 * unit
+
+  double epsilon() const { return 1e-3 * unit; }
+  bool has_procedural_materials() const;
+  Vec3 bounds_lo() const;
+  Vec3 bounds_hi() const;
+};
+
+// Names accepted by make_scene (without scale suffix): default, sphere, cornell, arch,
+// balls, wave, plus "bunny"/"dragon"/"armadillo" when the CGAL demo meshes are installed.
+std::vector<std::string> builtin_scene_names();
+std::string scene_name_help();  // "default, sphere, cornell, arch, ... (suffix @1e-6 ...)"
+
+// Builds a named scene; "NAME@FACTOR" scales it. Throws SceneError naming the accepted names.
+Scene make_scene(const std::string& name);
+
+// Loads a mesh file through Assimp (OBJ, PLY, OFF, STL, ...). Every triangle gets one grey
+// material; the camera frames the bounding box (up axis: 'y' for most scanned meshes, 'z').
+// Throws SceneError with one line (file name and reason) for missing, unreadable, empty or
+// malformed files and for non-finite coordinates.
+// The importer runs in a forked child process with a time limit (default 30 s + 2 s per MB;
+// environment RU_MESH_TIMEOUT overrides), so a hang or crash inside Assimp on a malformed
+// file is reported as a SceneError too.
+Scene load_mesh(const std::string& path, char up_axis = 'y');
+void set_mesh_load_timeout(double seconds);  // > 0 overrides the default (tests); 0 restores it
+
+// Multiplies geometry, camera, light and unit by s (s > 0, finite).
+void scale_scene(Scene& s, double factor);
+
+// Path of a CGAL demo mesh ("bunny" -> .../bunny00.off) or "" when not installed.
+std::string find_demo_mesh(const std::string& name);
+
+// Animated (deforming) scenes for the refit / rotation study (§5.6): same triangles in every
+// frame, positions change. names: "balls" (spheres scattering from a cluster), "wave"
+// (a cloth sheet rolling up). frame in [0, frames).
+std::vector<std::string> animation_names();
+Scene make_animation_frame(const std::string& name, int frame, int frames);
+
+}  // namespace ru::scene

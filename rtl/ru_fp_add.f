@@ -1,0 +1,7 @@
+ru_fp_pkg.sv
+ru_fp_pipe.sv
+ru_lzc.sv
+ru_fp_classify.sv
+ru_fp_normalize.sv
+ru_fp_round_pack.sv
+ru_fp_add.sv

@@ -1,0 +1,4 @@
+ru_fp_pkg.sv
+ru_fp_pipe.sv
+ru_fp_classify.sv
+ru_fp_cmp.sv
