@@ -8,7 +8,11 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 LONG=0
 if [[ "${1:-}" == "--long" ]]; then LONG=1; shift; fi
 if [[ $LONG == 1 ]]; then "$ROOT/scripts/install-deps.sh" --long; else "$ROOT/scripts/install-deps.sh"; fi
-"$ROOT/scripts/build.sh"
+if [[ $LONG == 1 ]]; then
+  "$ROOT/scripts/build.sh" -DRU_TB_LONG=ON   # the long-label RTL test executables
+else
+  "$ROOT/scripts/build.sh"
+fi
 BUILD="${RU_BUILD_DIR:-$ROOT/build}"
 cd "$BUILD"
 if [[ $LONG == 1 ]]; then

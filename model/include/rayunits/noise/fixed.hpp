@@ -1,0 +1,79 @@
+// rayunits noise: bit-accurate fixed-point model of the hardware noise unit rtl/ru_noise.sv
+// (Kensler sec. 4.9-4.13, Fig. 4.13). The RTL computes exactly these bits; every truncation
+// point is listed in docs/NOISE.md ("Fixed-point datapath") and repeated at the code below.
+//
+// Input: three two's-complement words of in_w() = int_bits + frac_bits bits, read as
+// u = word / 2^frac_bits in units of the half-resolution lattice (one unit = one cell = two
+// units of the full-resolution lattice). Output: a signed out_w-bit word `value` with
+// value / 2^(out_w + 1) ~= N(u) = NoiseRef(tables, 64).half_cell(u), saturated to out_w bits.
+// Equivalently value / 2^(out_w - 1) is a fraction in [-1, 1) equal to 4 N(u) = 2 half(2u).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+
+#include "rayunits/noise/tables.hpp"
+
+namespace ru::noise {
+
+struct FixedConfig {
+  int frac_bits = 8;  // B: fraction bits of the inputs and of every internal quantity, 4..16
+  int int_bits = 8;   // integer bits of each input incl. sign, 1..24 (cells wrap modulo 256)
+  int out_w = 10;     // width of the output word, 2..2*frac_bits+6
+
+  int in_w() const { return int_bits + frac_bits; }
+  // Throws std::invalid_argument with a one-line message naming the bad field.
+  void validate() const;
+  std::string describe() const;  // "B=8 int=8 out=10"
+};
+
+// Intermediate values of one evaluation (for tests, the RTL testbench's diagnostics, docs).
+struct FixedTrace {
+  int cell[3];                 // 8-bit cell index per axis
+  int frac[3];                 // B-bit fraction per axis
+  int hash[3][2];              // 6-bit hash of cell and cell + 1 per axis
+  int sq[3][2];                // truncated squares per axis and corner bit
+  int d[8], t[8], t2[8], t4[8], t5[8], w[8];  // per corner c = cx + 2 cy + 4 cz
+  int h[8];                    // gradient index per corner
+  std::array<int, 3> g[8];     // gradient (B fraction bits) per corner
+  std::int64_t dot[8];         // floor(offset . g / 2^B)
+  std::int64_t contrib[8];     // w * dot (2B fraction bits, exact)
+  std::int64_t sum;            // sum of contrib (2B fraction bits, exact)
+  std::int64_t value;          // the output word
+  bool saturated;
+};
+
+class FixedNoise {
+ public:
+  explicit FixedNoise(FixedConfig c = {}, const TableSet& t = builtin_tables());
+
+  const FixedConfig& config() const { return c_; }
+  // x, y, z: input words; only the low in_w bits are used (read as two's complement).
+  std::int64_t eval(std::int64_t x, std::int64_t y, std::int64_t z, FixedTrace* trace = nullptr) const;
+  // N(u) represented by an output word: value / 2^(out_w + 1).
+  double to_real(std::int64_t value) const;
+  // The input word for coordinate u: floor(u * 2^B), wrapped to in_w bits (sign-extended).
+  std::int64_t quantize(double u) const;
+  // The real coordinate an input word stands for (after wrapping to in_w bits).
+  double input_real(std::int64_t word) const;
+
+  // The hardware tables for this configuration.
+  int hash_entry(int axis, int cell) const { return hash_[axis][cell & 255]; }  // {next, cur}
+  const std::array<int, 3>& grad(int idx) const { return grad_[idx & 63]; }       // B frac bits
+
+  // Internal ranges the RTL widths rely on (checked on every evaluation; see docs/NOISE.md).
+  int w_bits() const { return c_.frac_bits + 2; }    // signed
+  int dot_bits() const { return c_.frac_bits + 2; }  // signed
+  int sum_bits() const { return 2 * c_.frac_bits + 6; }
+
+ private:
+  FixedConfig c_;
+  int hash_[3][256];
+  std::array<int, 3> grad_[64];
+};
+
+// The gradient narrowing of docs/NOISE.md: round(q16 / 2^(16 - B)), ties toward +infinity.
+int narrow_gradient(std::int32_t q16, int frac_bits);
+
+}  // namespace ru::noise

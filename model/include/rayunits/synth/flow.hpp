@@ -1,0 +1,109 @@
+// rayunits: the open synthesis flow (Yosys 0.23, nextpnr-ice40). See synth/README.md for the
+// method, the NAND2-equivalent weights and the delay model.
+#pragma once
+
+#include <functional>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "rayunits/synth/units.hpp"
+
+namespace ru::synth {
+
+struct FlowOptions {
+  std::string yosys = "yosys";  // name on PATH or a path
+  std::string nextpnr = "nextpnr-ice40";
+  std::string rtl_dir;                // empty: default_rtl_dir()
+  bool ice40 = true;                  // synth_ice40 LUT counts
+  bool xilinx = true;                 // synth_xilinx LUT/DSP counts
+  bool pnr = false;                   // nextpnr-ice40 place & route for Fmax (slow)
+  std::string ice40_device = "hx8k";  // hx8k or up5k
+  int timeout_s = 0;                  // per tool run, 0 = none
+  bool keep_temp = false;             // keep the temp directory (path in the result)
+  std::string temp_parent;            // where temp dirs go; empty: $TMPDIR or /tmp
+};
+
+// The delay model (synth/README.md): every logic level of Yosys's generic gate library costs
+// kLevelFo4 FO4 delays, a pipeline register adds kFlopFo4 (clock-to-Q + setup + margin), and one
+// FO4 is kFo4Ps picoseconds (a generic 65 nm-class process). Fmax = 1 / (depth*level + flop).
+struct DelayModel {
+  static constexpr double kFo4Ps = 25.0;
+  static constexpr double kLevelFo4 = 1.5;
+  static constexpr double kFlopFo4 = 4.0;
+  static constexpr const char* kName = "fo4-v1";
+  static double stage_ps(int depth) { return (depth * kLevelFo4 + kFlopFo4) * kFo4Ps; }
+  static double fmax_mhz(int depth) { return 1e6 / stage_ps(depth); }
+};
+
+// NAND2-equivalent weight of a Yosys internal gate cell ($_NAND_, $_DFF_PN0_, ...).
+// Throws SynthError for a cell type without a documented weight (e.g. a latch).
+double nand2_weight(const std::string& cell_type);
+bool is_flop_cell(const std::string& cell_type);
+
+struct GenericResult {
+  std::map<std::string, long> cells;  // by Yosys cell type
+  long cells_total = 0;
+  double area_nand2 = 0;
+  long transistors = 0;              // `stat -tech cmos`
+  bool transistors_complete = true;  // false: Yosys printed "N+" (some cell types not counted)
+  long transistors_uncounted = 0;    // cells Yosys 0.23 has no count for: flops with reset/enable
+  long reg_bits = 0;
+  int depth = 0;  // `ltp -noff`: gate levels of the worst stage
+  double stage_ps = 0;
+  double fmax_mhz = 0;
+};
+
+struct Ice40Result {
+  bool run = false;
+  std::string device;
+  long luts = 0, carries = 0, ffs = 0, dsps = 0, brams = 0;
+  long device_luts = 0;
+  bool fits = false;
+  std::string reason;  // why it does not fit / why pnr failed
+  bool pnr_run = false;
+  bool pnr_ok = false;
+  double fmax_mhz = 0;  // nextpnr, register-to-register through the harness
+  long lcs = 0;         // ICESTORM_LC used by the harnessed design
+};
+
+struct XilinxResult {
+  bool run = false;
+  long luts = 0, ffs = 0, dsps = 0, carry4 = 0, muxf = 0, srls = 0, lutram = 0, bram = 0;
+  long lcs = 0;  // `stat -tech xilinx` estimate
+};
+
+struct SynthResult {
+  std::string unit, top;
+  UnitConfig cfg;
+  GenericResult generic;
+  Ice40Result ice40;
+  XilinxResult xilinx;
+  std::string yosys_version;
+  std::string rtl_hash;                        // sources_hash() of what was synthesized (set by run_synth)
+  double seconds = 0;                          // wall time of run_flow
+  std::map<std::string, double> step_seconds;  // generic, ice40, ice40_harness, nextpnr, xilinx
+  std::string temp_dir;                        // only when kept
+};
+
+// Synthesizes the wrapper of (unit, config): checks the request, writes the wrapper into a
+// temp dir, runs the flows selected in `o`. Throws SynthError/FormatError with one line.
+SynthResult run_synth(const UnitSpec& u, const UnitConfig& c, const FlowOptions& o);
+
+// Runs the flows on explicit sources (used by run_synth, by `gen` on the generated directory
+// and by tests). `ports` drive the FPGA harness. work_dir must exist; logs are written there.
+SynthResult run_flow(const std::vector<std::string>& sources, const std::string& top,
+                     const std::vector<Port>& ports, const std::string& work_dir, const FlowOptions& o);
+
+// The Yosys script of the generic gate-level flow (what `gen` writes as synth.ys when given
+// bare file names). With measure=true it also writes stat.json / cmos.txt / ltp.txt.
+std::string generic_script(const std::vector<std::string>& sources, const std::string& top, bool measure);
+
+std::string yosys_version(const std::string& yosys);  // "Yosys 0.23 (git sha1 ...)"; throws if missing
+
+// JSON row (one object per run) and the human table.
+nlohmann::json to_json(const SynthResult& r);
+std::string format_table(const SynthResult& r);
+
+}  // namespace ru::synth

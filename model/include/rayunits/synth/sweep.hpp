@@ -1,0 +1,48 @@
+// rayunits: synthesis sweeps (`rayunits synth-sweep`): a grid of (unit, format, stages) points
+// synthesized in parallel, collected as CSV + JSON and plotted (area vs fraction bits, Fmax vs
+// stages) by synth/plot_sweep.py.
+#pragma once
+
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "rayunits/synth/flow.hpp"
+
+namespace ru::synth {
+
+struct SweepOptions {
+  std::vector<std::string> units = {"fp_add", "fp_mul", "fp_div"};
+  std::vector<std::string> formats = {"e5m10", "e6m12", "e7m16", "e8m23"};
+  // Stage counts; "max" = the unit's maximum for the format. Counts above a unit's maximum are
+  // skipped for that unit (listed in the output's "skipped").
+  std::vector<std::string> stages = {"0", "1", "2", "3", "4", "max"};
+  std::string round = "rne";
+  int jobs = 2;
+  std::string out_dir;
+  bool resume = false;  // reuse points/<top>.json from an earlier run of the same flow options
+  bool plot = true;
+  std::string python;   // empty: /usr/bin/python3 if present, else python3 on PATH
+  std::string command;  // recorded in the output
+  FlowOptions flow;
+};
+
+struct SweepPoint {
+  const UnitSpec* unit;
+  UnitConfig cfg;
+};
+
+// Expands the grid (validating every unit and format); points beyond a unit's stage range go to
+// `skipped` as "fp_add e5m10 s9: <reason>".
+std::vector<SweepPoint> sweep_points(const SweepOptions& o, std::vector<std::string>* skipped);
+
+// Runs the sweep, writing into o.out_dir: synth_sweep.csv, synth_sweep.json (meta + rows),
+// points/<top>.json (one row per point, reused by --resume) and synth_sweep.png.
+// Progress lines go to `progress` (stderr in the CLI). Returns the number of failed points.
+int run_sweep(const SweepOptions& o, const std::function<void(const std::string&)>& progress);
+
+// CSV header + one line per row (rows as produced by to_json, plus "error" rows).
+std::string sweep_csv(const nlohmann::json& rows);
+
+}  // namespace ru::synth

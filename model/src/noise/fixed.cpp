@@ -1,0 +1,154 @@
+// Bit-accurate model of rtl/ru_noise.sv; see rayunits/noise/fixed.hpp and docs/NOISE.md.
+#include "rayunits/noise/fixed.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <stdexcept>
+
+namespace ru::noise {
+
+void FixedConfig::validate() const {
+  if (frac_bits < 4 || frac_bits > 16)
+    throw std::invalid_argument("noise: fraction bits must be 4..16, got " + std::to_string(frac_bits));
+  if (int_bits < 1 || int_bits > 24)
+    throw std::invalid_argument("noise: input integer bits must be 1..24, got " + std::to_string(int_bits));
+  if (out_w < 2 || out_w > 2 * frac_bits + 6)
+    throw std::invalid_argument("noise: output width must be 2.." + std::to_string(2 * frac_bits + 6) +
+                                " for " + std::to_string(frac_bits) + " fraction bits, got " +
+                                std::to_string(out_w));
+}
+
+std::string FixedConfig::describe() const {
+  return "B=" + std::to_string(frac_bits) + " int=" + std::to_string(int_bits) + " out=" + std::to_string(out_w);
+}
+
+int narrow_gradient(std::int32_t q16, int frac_bits) {
+  if (frac_bits >= 16) return q16;
+  int sh = 16 - frac_bits;
+  return (q16 + (1 << (sh - 1))) >> sh;  // arithmetic shift = floor
+}
+
+FixedNoise::FixedNoise(FixedConfig c, const TableSet& t) : c_(c) {
+  c_.validate();
+  const std::array<std::uint8_t, 256>* p[3] = {&t.perm_x, &t.perm_y, &t.perm_z};
+  for (int a = 0; a < 3; ++a)
+    for (int i = 0; i < 256; ++i) hash_[a][i] = ((*p[a])[(i + 1) & 255] % 64) << 6 | ((*p[a])[i] % 64);
+  for (int i = 0; i < 64; ++i)
+    for (int a = 0; a < 3; ++a) grad_[i][a] = narrow_gradient(t.grad64_q16[i][a], c_.frac_bits);
+}
+
+namespace {
+
+[[noreturn]] void range_fail(const char* what, long long v, const FixedConfig& c) {
+  std::fprintf(stderr, "noise fixed model: internal range violated: %s = %lld (%s)\n", what, v,
+               c.describe().c_str());
+  std::abort();
+}
+
+// Two's-complement value of the low `bits` bits of v.
+std::int64_t sext(std::int64_t v, int bits) {
+  std::uint64_t m = (bits >= 64) ? ~0ull : ((1ull << bits) - 1);
+  std::uint64_t u = static_cast<std::uint64_t>(v) & m;
+  if (bits < 64 && (u >> (bits - 1)) & 1) u |= ~m;
+  return static_cast<std::int64_t>(u);
+}
+
+bool fits_signed(std::int64_t v, int bits) { return v >= -(1ll << (bits - 1)) && v < (1ll << (bits - 1)); }
+
+}  // namespace
+
+std::int64_t FixedNoise::eval(std::int64_t x, std::int64_t y, std::int64_t z, FixedTrace* tr) const {
+  const int B = c_.frac_bits;
+  const std::int64_t one = 1ll << B;
+  const std::int64_t in[3] = {sext(x, c_.in_w()), sext(y, c_.in_w()), sext(z, c_.in_w())};
+  int cell[3], frac[3], hsh[3][2], sq[3][2];
+  for (int a = 0; a < 3; ++a) {
+    // (1) Split: cell = floor(u) mod 256 (arithmetic shift, low 8 bits), frac = low B bits.
+    cell[a] = static_cast<int>((in[a] >> B) & 255);
+    frac[a] = static_cast<int>(in[a] & (one - 1));
+    // (2) Hash table lookup: one entry gives the hash of the cell and of the next cell.
+    int e = hash_[a][cell[a]];
+    hsh[a][0] = e & 63;
+    hsh[a][1] = e >> 6;
+    // (3) Squares of the per-axis offsets f and 1 - f, truncated to B fraction bits (floor).
+    std::int64_t f = frac[a], g = one - frac[a];
+    sq[a][0] = static_cast<int>((f * f) >> B);
+    sq[a][1] = static_cast<int>((g * g) >> B);
+  }
+  std::int64_t sum = 0;
+  if (tr) {
+    for (int a = 0; a < 3; ++a) {
+      tr->cell[a] = cell[a];
+      tr->frac[a] = frac[a];
+      for (int k = 0; k < 2; ++k) {
+        tr->hash[a][k] = hsh[a][k];
+        tr->sq[a][k] = sq[a][k];
+      }
+    }
+  }
+  for (int c = 0; c < 8; ++c) {
+    const int cb[3] = {c & 1, (c >> 1) & 1, c >> 2};
+    // (4) Squared distance (exact sum) and t = 1 - d, zero outside the support (d >= 1).
+    std::int64_t d = sq[0][cb[0]] + sq[1][cb[1]] + sq[2][cb[2]];
+    std::int64_t t = d < one ? one - d : 0;
+    // (5)-(7) Powers of t, each product truncated to B fraction bits (floor).
+    std::int64_t t2 = (t * t) >> B;
+    std::int64_t t4 = (t2 * t2) >> B;
+    std::int64_t t5 = (t4 * t) >> B;
+    // (8) Kernel weight 4 t^5 - 3 t^4 (exact).
+    std::int64_t w = 4 * t5 - 3 * t4;
+    if (!fits_signed(w, w_bits())) range_fail("w", w, c_);
+    // (9) Gradient index: xor of the three 6-bit hashes; gradient with B fraction bits.
+    int h = hsh[0][cb[0]] ^ hsh[1][cb[1]] ^ hsh[2][cb[2]];
+    const std::array<int, 3>& g = grad_[h];
+    // (10) Dot product of the offset (f - corner bit, B fraction bits) with the gradient:
+    // exact sum of the three products (2B fraction bits), then truncated to B bits (floor).
+    std::int64_t p = 0;
+    for (int a = 0; a < 3; ++a) p += (frac[a] - (cb[a] ? one : 0)) * static_cast<std::int64_t>(g[a]);
+    std::int64_t dt = p >> B;
+    if (!fits_signed(dt, dot_bits())) range_fail("dot", dt, c_);
+    // (11) Contribution w * dot, exact (2B fraction bits); (12) exact sum of the eight.
+    std::int64_t contrib = w * dt;
+    sum += contrib;
+    if (tr) {
+      tr->d[c] = static_cast<int>(d);
+      tr->t[c] = static_cast<int>(t);
+      tr->t2[c] = static_cast<int>(t2);
+      tr->t4[c] = static_cast<int>(t4);
+      tr->t5[c] = static_cast<int>(t5);
+      tr->w[c] = static_cast<int>(w);
+      tr->h[c] = h;
+      tr->g[c] = g;
+      tr->dot[c] = dt;
+      tr->contrib[c] = contrib;
+    }
+  }
+  if (!fits_signed(sum, sum_bits())) range_fail("sum", sum, c_);
+  // (13) Output scaling: value = floor(sum * 2^(out_w + 1 - 2B)), then saturation to out_w bits.
+  const int sh = 2 * B - (c_.out_w + 1);
+  std::int64_t v = sh >= 0 ? (sum >> sh) : sum * (1ll << -sh);
+  const std::int64_t vmax = (1ll << (c_.out_w - 1)) - 1, vmin = -(1ll << (c_.out_w - 1));
+  bool sat = v > vmax || v < vmin;
+  if (v > vmax) v = vmax;
+  if (v < vmin) v = vmin;
+  if (tr) {
+    tr->sum = sum;
+    tr->value = v;
+    tr->saturated = sat;
+  }
+  return v;
+}
+
+double FixedNoise::to_real(std::int64_t value) const { return std::ldexp(static_cast<double>(value), -(c_.out_w + 1)); }
+
+std::int64_t FixedNoise::quantize(double u) const {
+  double s = std::floor(std::ldexp(u, c_.frac_bits));
+  return sext(static_cast<std::int64_t>(s), c_.in_w());
+}
+
+double FixedNoise::input_real(std::int64_t word) const {
+  return std::ldexp(static_cast<double>(sext(word, c_.in_w())), -c_.frac_bits);
+}
+
+}  // namespace ru::noise

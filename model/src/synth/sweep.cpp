@@ -1,0 +1,328 @@
+// Synthesis sweeps: parallel points, progress on stderr, CSV/JSON/PNG output.
+#include "rayunits/synth/sweep.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <filesystem>
+#include <mutex>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#include "rayunits/synth/args.hpp"
+#include "rayunits/synth/process.hpp"
+
+namespace ru::synth {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+std::string flow_signature(const FlowOptions& f) {
+  // Bump the "v" number when the flow's method changes (weights, delay model, scripts).
+  return std::string("v1:generic") + (f.ice40 ? "+ice40-" + f.ice40_device : "") + (f.pnr ? "+pnr" : "") +
+         (f.xilinx ? "+xilinx" : "");
+}
+
+std::string hms(double s) {
+  char b[32];
+  int t = static_cast<int>(s + 0.5);
+  if (t >= 3600)
+    std::snprintf(b, sizeof b, "%dh%02dm%02ds", t / 3600, t / 60 % 60, t % 60);
+  else if (t >= 60)
+    std::snprintf(b, sizeof b, "%dm%02ds", t / 60, t % 60);
+  else
+    std::snprintf(b, sizeof b, "%ds", t);
+  return b;
+}
+
+std::string csv_cell(const json& v) {
+  if (v.is_null()) return "";
+  if (v.is_string()) {
+    std::string s = v.get<std::string>();
+    if (s.find_first_of(",\"\n") == std::string::npos) return s;
+    std::string q = "\"";
+    for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return q + "\"";
+  }
+  if (v.is_boolean()) return v.get<bool>() ? "1" : "0";
+  return v.dump();
+}
+
+json get_path(const json& row, const std::string& key) {
+  size_t dot = key.find('.');
+  if (dot == std::string::npos) return row.contains(key) ? row[key] : json(nullptr);
+  const std::string head = key.substr(0, dot);
+  if (!row.contains(head) || row[head].is_null()) return nullptr;
+  return get_path(row[head], key.substr(dot + 1));
+}
+
+std::string git_commit() {
+#ifdef RU_SOURCE_DIR
+  const std::string git = find_program("git");
+  if (git.empty()) return "unknown";
+  try {
+    TempDir t("ru-git-");
+    const std::string log = t.path() + "/out";
+    ProcResult r = run_process({git, "-C", RU_SOURCE_DIR, "rev-parse", "--short", "HEAD"}, t.path(), log, 10);
+    std::string s = read_file(log);
+    while (!s.empty() && (s.back() == '\n' || s.back() == '\r')) s.pop_back();
+    if (r.exit_code == 0 && !s.empty() && s.find('\n') == std::string::npos) {
+      ProcResult d = run_process({git, "-C", RU_SOURCE_DIR, "diff", "--quiet", "HEAD", "--", "rtl"}, t.path(),
+                                 t.path() + "/diff", 10);
+      return s + (d.exit_code == 0 ? "" : "+dirty-rtl");
+    }
+  } catch (const SynthError&) {
+  }
+  return "none (no commit)";
+#else
+  return "unknown";
+#endif
+}
+
+}  // namespace
+
+std::vector<SweepPoint> sweep_points(const SweepOptions& o, std::vector<std::string>* skipped) {
+  if (o.units.empty() || o.formats.empty() || o.stages.empty())
+    throw SynthError("empty sweep: give at least one unit, format and stage count");
+  std::vector<num::Format> fmts;
+  for (const auto& f : o.formats) {
+    num::Format x = num::Format::parse(f);
+    x.round = num::parse_round(o.round);
+    fmts.push_back(x);
+  }
+  std::vector<SweepPoint> pts;
+  for (const auto& un : o.units) {
+    const UnitSpec& u = find_unit(un);
+    // Units without a floating-point format get one point per stage count.
+    const std::vector<num::Format> ufmts = u.uses_format ? fmts : std::vector<num::Format>{num::Format{}};
+    for (const auto& f : ufmts) {
+      std::set<int> st;
+      UnitConfig c;
+      c.fmt = f;
+      const int hi = u.max_stages(c);
+      const std::string tag = u.name + (u.uses_format ? " " + f.name() : std::string());
+      for (const auto& s : o.stages) {
+        int n = s == "max" ? hi : parse_int("--stages", s, 0, 1000);
+        if (n > hi) {
+          if (skipped)
+            skipped->push_back(tag + " s" + std::to_string(n) + ": above the unit's maximum of " +
+                               std::to_string(hi));
+          continue;
+        }
+        st.insert(n);
+      }
+      for (int n : st) {
+        c.stages = n;
+        check_config(u, c);
+        pts.push_back({&u, c});
+      }
+    }
+  }
+  return pts;
+}
+
+std::string sweep_csv(const json& rows) {
+  static const std::vector<std::string> cols = {
+      "unit",           "format",       "exp_bits",     "frac_bits",        "width",       "stages",
+      "round",          "area_nand2",   "cells_total",  "transistors_cmos", "reg_bits",    "depth",
+      "stage_delay_ps", "fmax_est_mhz", "ice40.device", "ice40.luts",       "ice40.ffs",   "ice40.fits",
+      "ice40.fmax_mhz", "ice40.reason", "xilinx.luts",  "xilinx.ffs",       "xilinx.dsps", "xilinx.carry4",
+      "seconds",        "error"};
+  std::string s;
+  for (size_t i = 0; i < cols.size(); ++i) {
+    std::string c = cols[i];
+    std::replace(c.begin(), c.end(), '.', '_');
+    s += (i ? "," : "") + c;
+  }
+  s += "\n";
+  for (const auto& r : rows) {
+    for (size_t i = 0; i < cols.size(); ++i) s += (i ? "," : "") + csv_cell(get_path(r, cols[i]));
+    s += "\n";
+  }
+  return s;
+}
+
+int run_sweep(const SweepOptions& o, const std::function<void(const std::string&)>& progress) {
+  if (o.out_dir.empty()) throw SynthError("--out DIR is required");
+  std::vector<std::string> skipped;
+  const std::vector<SweepPoint> pts = sweep_points(o, &skipped);
+  const std::string yv = yosys_version(o.flow.yosys);
+  if (o.flow.pnr && find_program(o.flow.nextpnr).empty())
+    throw SynthError("nextpnr-ice40 not found ('" + o.flow.nextpnr + "'): install it or drop --fpga");
+  const std::string rtl_dir = o.flow.rtl_dir.empty() ? default_rtl_dir() : o.flow.rtl_dir;
+  std::map<std::string, std::string> hash_at_start;  // unit -> sources_hash
+  for (const auto& p : pts) hash_at_start[p.unit->name] = sources_hash(resolve_sources(*p.unit, rtl_dir));
+  std::error_code ec;
+  fs::create_directories(fs::path(o.out_dir) / "points", ec);
+  if (ec) throw SynthError("cannot create '" + o.out_dir + "/points': " + ec.message());
+  const std::string sig = flow_signature(o.flow);
+  for (const auto& s : skipped) progress("skipped " + s);
+
+  std::vector<json> rows(pts.size());
+  std::atomic<size_t> next{0};
+  std::atomic<int> done{0}, failed{0};
+  std::mutex mu;
+  const auto t0 = std::chrono::steady_clock::now();
+  auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+  {
+    char b[128];
+    std::snprintf(b, sizeof b, "synth-sweep: %zu points, %d jobs, flow %s", pts.size(), std::max(1, o.jobs),
+                  sig.c_str());
+    progress(b);
+  }
+  auto worker = [&] {
+    for (;;) {
+      if (interrupted()) return;
+      const size_t i = next++;
+      if (i >= pts.size()) return;
+      const SweepPoint& p = pts[i];
+      const std::string top = wrapper_name(*p.unit, p.cfg);
+      const std::string point_file = (fs::path(o.out_dir) / "points" / (top + ".json")).string();
+      json row;
+      bool reused = false;
+      if (o.resume && fs::exists(point_file)) {
+        try {
+          json saved = json::parse(read_file(point_file));
+          if (saved.value("flow", "") == sig && saved.contains("row") && !saved["row"].contains("error") &&
+              saved["row"].value("rtl_hash", "") == hash_at_start[p.unit->name]) {
+            row = saved["row"];
+            reused = true;
+          }
+        } catch (const std::exception&) {
+        }
+      }
+      if (!reused) {
+        try {
+          row = to_json(run_synth(*p.unit, p.cfg, o.flow));
+        } catch (const std::exception& e) {
+          if (interrupted()) return;  // not a result: the point stays to be done by --resume
+          const bool uf = p.unit->uses_format;
+          row = {{"unit", p.unit->name},
+                 {"top", top},
+                 {"format", uf ? json(p.cfg.fmt.name()) : json(nullptr)},
+                 {"exp_bits", uf ? json(p.cfg.fmt.exp_bits) : json(nullptr)},
+                 {"frac_bits", uf ? json(p.cfg.fmt.frac_bits) : json(nullptr)},
+                 {"width", uf ? json(p.cfg.fmt.width()) : json(nullptr)},
+                 {"stages", p.cfg.stages},
+                 {"round", uf ? json(num::round_name(p.cfg.fmt.round)) : json(nullptr)},
+                 {"error", e.what()}};
+          ++failed;
+        }
+        try {
+          write_file_atomic(point_file, json{{"flow", sig}, {"row", row}}.dump() + "\n");
+        } catch (const SynthError&) {
+        }
+      }
+      rows[i] = row;
+      const int d = ++done;
+      std::ostringstream m;
+      char head[64];
+      std::snprintf(head, sizeof head, "[%*d/%zu] ", static_cast<int>(std::to_string(pts.size()).size()), d,
+                    pts.size());
+      m << head << config_args(*p.unit, p.cfg) << ": ";
+      if (row.contains("error")) {
+        m << "FAILED: " << row["error"].get<std::string>();
+      } else {
+        char b[256];
+        std::snprintf(b, sizeof b, "area %.0f NAND2-eq, depth %d, est. %.0f MHz",
+                      row["area_nand2"].get<double>(), row["depth"].get<int>(),
+                      row["fmax_est_mhz"].get<double>());
+        m << b;
+        if (!row["ice40"].is_null()) {
+          const json& ic = row["ice40"];
+          if (!ic["fits"].get<bool>())
+            m << ", iCE40 does not fit";
+          else if (!ic["fmax_mhz"].is_null()) {
+            std::snprintf(b, sizeof b, ", iCE40 %ld LUT %.1f MHz", ic["luts"].get<long>(),
+                          ic["fmax_mhz"].get<double>());
+            m << b;
+          } else {
+            m << ", iCE40 " << ic["luts"].get<long>() << " LUT";
+          }
+        }
+        std::snprintf(b, sizeof b, " (%s%.1f s)", reused ? "reused, " : "", row.value("seconds", 0.0));
+        m << b;
+      }
+      const double el = elapsed();
+      m << "  elapsed " << hms(el);
+      if (d < static_cast<int>(pts.size())) m << ", ETA " << hms(el / d * (pts.size() - d));
+      std::lock_guard<std::mutex> lock(mu);
+      progress(m.str());
+    }
+  };
+  std::vector<std::thread> threads;
+  for (int t = 0; t < std::max(1, o.jobs); ++t) threads.emplace_back(worker);
+  for (auto& t : threads) t.join();
+  if (interrupted())
+    throw SynthError("interrupted after " + std::to_string(done.load()) + " of " +
+                     std::to_string(pts.size()) + " points (finished points are in " + o.out_dir +
+                     "/points; rerun with --resume)");
+
+  json all = json::array();
+  for (auto& r : rows) all.push_back(r);
+  // Rows must all describe one version of the RTL: say so if it changed under the sweep.
+  std::vector<std::string> changed;
+  for (const auto& [unit, h] : hash_at_start) {
+    bool differs = sources_hash(resolve_sources(find_unit(unit), rtl_dir)) != h;
+    for (const auto& r : all)
+      if (r.value("unit", "") == unit && r.contains("rtl_hash") && r["rtl_hash"] != h) differs = true;
+    if (differs) changed.push_back(unit);
+  }
+  for (const auto& u : changed)
+    progress("warning: the RTL of " + u +
+             " changed during the sweep; rows may mix versions (rerun with --resume)");
+  char started[64];
+  std::time_t now = std::time(nullptr);
+  std::strftime(started, sizeof started, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+  json out = {{"meta",
+               {{"command", o.command},
+                {"commit", git_commit()},
+                {"yosys", yv},
+                {"flow", sig},
+                {"delay_model", DelayModel::kName},
+                {"finished", started},
+                {"wall_seconds", std::round(elapsed() * 10) / 10},
+                {"jobs", std::max(1, o.jobs)},
+                {"skipped", skipped},
+                {"rtl_hash", hash_at_start},
+                {"rtl_changed_during_sweep", changed}}},
+              {"rows", all}};
+  const std::string json_path = (fs::path(o.out_dir) / "synth_sweep.json").string();
+  const std::string csv_path = (fs::path(o.out_dir) / "synth_sweep.csv").string();
+  write_file_atomic(json_path, out.dump(1) + "\n");
+  write_file_atomic(csv_path, sweep_csv(all));
+  progress("wrote " + csv_path + " and " + json_path + " (" + hms(elapsed()) + ")");
+
+  if (o.plot) {
+    std::string py = o.python;
+    if (py.empty()) py = find_program("/usr/bin/python3").empty() ? "python3" : "/usr/bin/python3";
+    const std::string exe = find_program(py);
+#ifdef RU_SOURCE_DIR
+    const std::string script = std::string(RU_SOURCE_DIR) + "/synth/plot_sweep.py";
+#else
+    const std::string script = "synth/plot_sweep.py";
+#endif
+    const std::string png = (fs::path(o.out_dir) / "synth_sweep.png").string();
+    if (exe.empty())
+      throw SynthError("no plot: python '" + py + "' not found (use --python PATH or --no-plot)");
+    TempDir t("ru-plot-");
+    ProcResult r = run_process({exe, script, json_path, png}, ".", t.path() + "/log", 300);
+    if (r.exit_code != 0) {
+      std::string log = read_file(t.path() + "/log");
+      std::string last;
+      std::istringstream in(log);
+      for (std::string l; std::getline(in, l);)
+        if (!l.empty()) last = l;
+      throw SynthError("plot failed (" + script + "): " + last);
+    }
+    progress("wrote " + png);
+  }
+  return failed.load();
+}
+
+}  // namespace ru::synth

@@ -1,0 +1,349 @@
+# rayunits tb: CMake helpers for Verilated cycle-by-cycle scoreboard tests (see tb/README.md).
+#
+#   ru_tb_unit(<unit> MODULE <rtl top> FILELIST <file.f> PORTS <name:width>... [PARAMS <p>...])
+#       Declares a unit: its RTL module, the Verilator file list of its sources (paths relative
+#       to the .f file), and its ports. Port widths are CMake math expressions in W (= 1+E+M),
+#       E (= ExpW), M (= FracW) and any parameter P given in a configuration, e.g. "a_i:3*W".
+#
+#   ru_tb_add_tests(<target> UNIT <unit> CONFIGS <cfg>... [LONG] [NO_TRACE] [NO_LINT])
+#       One executable <target>; one Verilator model per configuration (unique PREFIX
+#       V<unit>_<config>), all linked with ONE copy of the Verilator runtime, the harness and
+#       the unit's adapter. GoogleTest cases are registered at run time by the unit's test plan
+#       (tb/units/*.cpp) and discovered by ctest: <unit>_<config>.<test>, and
+#       Long_<unit>_<config>.<test> with the ctest label `long`. LONG prefixes every test
+#       of the target with Long_ (label long). A lint test <unit>_<config>.lint
+#       (verilator --lint-only -Wall) is added per configuration unless NO_LINT.
+#
+# Configuration syntax: "<format>:s<Stages>[:<round>][:<tag>...]", tokens separated by ':'
+#   <format>  eXmY or eXmY-ftz (Subnormals=0)    <round>  rne (default) | rtz | rdn | rup
+#   tags      exhaustive (all operand combinations), selftest (planted-error tests),
+#             n=<count> (random vectors), Name=<int> (any other RTL parameter override)
+# e.g. "e8m23:s3", "e5m10-ftz:s2:rtz", "e4m3:s1:exhaustive", "e11m52:s9:n=1000000".
+# Configuration names: e8m23_s3, e5m10_ftz_s2_rtz (tags other than Name=... are not in names).
+
+set(RU_TB_DIR ${CMAKE_CURRENT_LIST_DIR}/..)
+
+# Verilator's runtime, shared by every Verilated executable of the project.
+if(NOT TARGET ru_tb_vlrt)
+  find_package(ZLIB REQUIRED)  # FST writer
+  add_library(ru_tb_vlrt STATIC ${VERILATOR_ROOT}/include/verilated.cpp
+    ${VERILATOR_ROOT}/include/verilated_fst_c.cpp ${VERILATOR_ROOT}/include/verilated_threads.cpp)
+  target_include_directories(ru_tb_vlrt SYSTEM PUBLIC ${VERILATOR_ROOT}/include ${VERILATOR_ROOT}/include/vltstd)
+  target_compile_definitions(ru_tb_vlrt PRIVATE VM_TRACE=1 VM_TRACE_FST=1 VM_TRACE_VCD=0 VM_COVERAGE=0 VM_SC=0)
+  target_compile_options(ru_tb_vlrt PRIVATE -w ${RU_TB_OPT_GLOBAL})
+  target_link_libraries(ru_tb_vlrt PUBLIC ZLIB::ZLIB Threads::Threads)
+endif()
+
+function(ru_tb_unit unit)
+  cmake_parse_arguments(A "" "MODULE;FILELIST" "PORTS;SOURCES" ${ARGN})
+  if(NOT A_MODULE OR NOT A_PORTS)
+    message(FATAL_ERROR "ru_tb_unit(${unit}): MODULE and PORTS are required")
+  endif()
+  set_property(GLOBAL PROPERTY RU_TB_UNIT_${unit}_MODULE ${A_MODULE})
+  set_property(GLOBAL PROPERTY RU_TB_UNIT_${unit}_FILELIST "${A_FILELIST}")
+  set_property(GLOBAL PROPERTY RU_TB_UNIT_${unit}_SOURCES "${A_SOURCES}")
+  set_property(GLOBAL PROPERTY RU_TB_UNIT_${unit}_PORTS "${A_PORTS}")
+endfunction()
+
+# Parses one configuration string into variables in the caller's scope:
+# <out>_NAME, <out>_PARAMS (list of Name=Value), <out>_TAGS (list).
+function(_ru_tb_parse_config cfg out)
+  string(REPLACE ":" ";" toks "${cfg}")
+  list(POP_FRONT toks fmt)
+  if(NOT fmt MATCHES "^e([0-9]+)m([0-9]+)(-ftz)?$")
+    message(FATAL_ERROR "ru_tb: bad configuration '${cfg}': expected eXmY[-ftz]:sN[:round][:tags]")
+  endif()
+  set(e ${CMAKE_MATCH_1})
+  set(m ${CMAKE_MATCH_2})
+  set(sub 1)
+  set(name "e${e}m${m}")
+  if(CMAKE_MATCH_3)
+    set(sub 0)
+    string(APPEND name "_ftz")
+  endif()
+  list(POP_FRONT toks st)
+  if(NOT st MATCHES "^s([0-9]+)$")
+    message(FATAL_ERROR "ru_tb: bad configuration '${cfg}': second token must be s<Stages>")
+  endif()
+  set(stages ${CMAKE_MATCH_1})
+  string(APPEND name "_s${stages}")
+  set(round 0)
+  set(params ExpW=${e} FracW=${m} Stages=${stages} Subnormals=${sub})
+  set(tags "")
+  foreach(t ${toks})
+    if(t STREQUAL "rne")
+      set(round 0)
+    elseif(t STREQUAL "rtz")
+      set(round 1)
+      string(APPEND name "_rtz")
+    elseif(t STREQUAL "rdn")
+      set(round 2)
+      string(APPEND name "_rdn")
+    elseif(t STREQUAL "rup")
+      set(round 3)
+      string(APPEND name "_rup")
+    elseif(t MATCHES "^([A-Z][A-Za-z0-9_]*)=(-?[0-9]+)$")
+      list(APPEND params "${t}")
+      string(APPEND name "_${CMAKE_MATCH_1}${CMAKE_MATCH_2}")
+    elseif(t MATCHES "^[a-z][a-z0-9_]*(=[A-Za-z0-9_.+-]+)?$")
+      list(APPEND tags "${t}")
+    else()
+      message(FATAL_ERROR "ru_tb: bad token '${t}' in configuration '${cfg}'")
+    endif()
+  endforeach()
+  list(APPEND params Round=${round})
+  set(${out}_NAME ${name} PARENT_SCOPE)
+  set(${out}_PARAMS ${params} PARENT_SCOPE)
+  set(${out}_TAGS "${tags}" PARENT_SCOPE)
+endfunction()
+
+# Reads a Verilator .f file list (one path per line, '//' or '#' comments) into absolute paths.
+function(_ru_tb_read_filelist f out)
+  get_filename_component(dir ${f} DIRECTORY)
+  file(STRINGS ${f} lines)
+  set(files "")
+  foreach(l ${lines})
+    string(REGEX REPLACE "(//|#).*$" "" l "${l}")
+    string(STRIP "${l}" l)
+    if(l STREQUAL "")
+      continue()
+    endif()
+    if(l MATCHES "^[-+]")
+      message(FATAL_ERROR "ru_tb: ${f}: only plain file names are supported in the file list ('${l}')")
+    endif()
+    if(NOT IS_ABSOLUTE ${l})
+      set(l ${dir}/${l})
+    endif()
+    list(APPEND files ${l})
+  endforeach()
+  set(${out} ${files} PARENT_SCOPE)
+endfunction()
+
+# Checks that <unit>'s RTL exists and elaborates (first configuration); sets <out> to its
+# source files, or to "" (with a STATUS/WARNING message) when the unit cannot be built yet.
+function(_ru_tb_unit_sources target unit configs out)
+  set(${out} "" PARENT_SCOPE)
+  get_property(known GLOBAL PROPERTY RU_TB_SRCS_${target}_${unit} SET)
+  if(known)  # already checked for this target
+    get_property(srcs GLOBAL PROPERTY RU_TB_SRCS_${target}_${unit})
+    set(${out} "${srcs}" PARENT_SCOPE)
+    return()
+  endif()
+  set_property(GLOBAL PROPERTY RU_TB_SRCS_${target}_${unit} "")
+  get_property(module GLOBAL PROPERTY RU_TB_UNIT_${unit}_MODULE)
+  get_property(filelist GLOBAL PROPERTY RU_TB_UNIT_${unit}_FILELIST)
+  get_property(srcs GLOBAL PROPERTY RU_TB_UNIT_${unit}_SOURCES)
+  get_property(ports GLOBAL PROPERTY RU_TB_UNIT_${unit}_PORTS)
+  if(NOT module)
+    message(FATAL_ERROR "ru_tb_add_tests(${target}): unknown unit '${unit}' (declare it with ru_tb_unit)")
+  endif()
+  if(filelist)
+    if(NOT EXISTS ${filelist})
+      message(STATUS "ru_tb: ${target} skipped: ${filelist} does not exist (yet)")
+      return()
+    endif()
+    _ru_tb_read_filelist(${filelist} flsrcs)
+    list(APPEND srcs ${flsrcs})
+  endif()
+  foreach(s ${srcs})
+    if(NOT EXISTS ${s})
+      message(STATUS "ru_tb: ${target} skipped: ${s} does not exist (yet)")
+      return()
+    endif()
+  endforeach()
+
+  # Configure-time sanity check: Verilator must elaborate the first configuration, otherwise
+  # verilate() would stop the whole project's configure. A broken unit gets a failing test.
+  list(GET configs 0 first_cfg)
+  _ru_tb_parse_config("${first_cfg}" C)
+  set(gargs "")
+  foreach(p ${C_PARAMS})
+    list(APPEND gargs -G${p})
+  endforeach()
+  execute_process(
+    COMMAND ${VERILATOR_BIN} --lint-only -Wno-fatal -Wno-lint -Wno-style --top-module ${module} ${gargs} ${srcs}
+    RESULT_VARIABLE rc OUTPUT_VARIABLE vout ERROR_VARIABLE vout)
+  if(rc)
+    message(WARNING "ru_tb: ${target}: Verilator cannot elaborate ${module} (${C_NAME}); its tests are replaced by a failing placeholder:\n${vout}")
+    add_test(NAME ${unit}_${C_NAME}.rtl_does_not_elaborate
+      COMMAND ${VERILATOR_BIN} --lint-only -Wno-fatal --top-module ${module} ${gargs} ${srcs})
+    return()
+  endif()
+
+  set_property(GLOBAL PROPERTY RU_TB_SRCS_${target}_${unit} "${srcs}")
+  set(${out} ${srcs} PARENT_SCOPE)
+endfunction()
+
+# ru_tb_add_models(<target> UNIT <unit> CONFIGS <cfg>... [NO_TRACE] [NO_LINT] [LONG])
+#   Adds one Verilated model per configuration (and its registration glue) to an existing
+#   executable <target> (used by ru_tb_add_tests and by the benchmark). Sets <target>_MODELS
+#   in the caller's scope to the number of models added (0 when the unit's RTL is missing).
+function(ru_tb_add_models target)
+  cmake_parse_arguments(A "LONG;NO_TRACE;NO_LINT" "UNIT" "CONFIGS" ${ARGN})
+  set(${target}_MODELS 0 PARENT_SCOPE)
+  set(unit ${A_UNIT})
+  _ru_tb_unit_sources(${target} ${unit} "${A_CONFIGS}" srcs)
+  if(NOT srcs)
+    return()
+  endif()
+  get_property(module GLOBAL PROPERTY RU_TB_UNIT_${unit}_MODULE)
+  get_property(ports GLOBAL PROPERTY RU_TB_UNIT_${unit}_PORTS)
+  set(common_args -Wall -Wno-fatal --x-assign unique --x-initial unique)
+  if(RU_TB_VERILATOR_ARGS)
+    list(APPEND common_args ${RU_TB_VERILATOR_ARGS})
+  endif()
+
+  set(gendir ${CMAKE_CURRENT_BINARY_DIR}/gen/${target})
+  set(all_names "")
+  foreach(cfg ${A_CONFIGS})
+    _ru_tb_parse_config("${cfg}" C)
+    if(C_NAME IN_LIST all_names)
+      message(FATAL_ERROR "ru_tb_add_tests(${target}): configuration ${C_NAME} given twice")
+    endif()
+    list(APPEND all_names ${C_NAME})
+    set(tags ${C_TAGS})
+    if(A_LONG)
+      list(APPEND tags long)
+    endif()
+    set(prefix V${unit}_${C_NAME})
+    # Width variables for the port expressions.
+    set(vars "")
+    foreach(p ${C_PARAMS})
+      string(REPLACE "=" ";" kv ${p})
+      list(GET kv 0 k)
+      list(GET kv 1 v)
+      set(P_${k} ${v})
+      list(APPEND vars ${k})
+    endforeach()
+    math(EXPR P_W "1 + ${P_ExpW} + ${P_FracW}")
+    set(P_E ${P_ExpW})
+    set(P_M ${P_FracW})
+    list(APPEND vars W E M)
+    set(bind "")
+    foreach(pdesc ${ports})
+      string(REPLACE ":" ";" pd ${pdesc})
+      list(GET pd 0 pname)
+      list(GET pd 1 pexpr)
+      string(REGEX MATCHALL "[A-Za-z_][A-Za-z0-9_]*|[^A-Za-z_]+" ptoks "${pexpr}")
+      set(pexpr "")
+      foreach(tk ${ptoks})
+        if(tk MATCHES "^[A-Za-z_]")
+          if(NOT tk IN_LIST vars)
+            message(FATAL_ERROR "ru_tb_unit(${unit}): port ${pname}: unknown name '${tk}' in its width (known: ${vars})")
+          endif()
+          set(tk "${P_${tk}}")
+        endif()
+        string(APPEND pexpr "${tk}")
+      endforeach()
+      math(EXPR pw "${pexpr}")
+      if(pw GREATER 64)
+        set(ptr "m.${pname}.data()")
+      else()
+        set(ptr "&m.${pname}")
+      endif()
+      string(APPEND bind "  pm.add(\"${pname}\", ru::tb::Port(${ptr}, ${pw}));\n")
+    endforeach()
+    set(cparams "")
+    set(gargs "")
+    foreach(p ${C_PARAMS})
+      string(REPLACE "=" ";" kv ${p})
+      list(GET kv 0 k)
+      list(GET kv 1 v)
+      string(APPEND cparams "{\"${k}\", ${v}}, ")
+      list(APPEND gargs -G${p})
+    endforeach()
+    set(ctags "")
+    foreach(t ${tags})
+      string(APPEND ctags "\"${t}\", ")
+    endforeach()
+    file(CONFIGURE OUTPUT ${gendir}/${prefix}_glue.cpp @ONLY CONTENT
+"// Generated by tb/cmake/RuTb.cmake for ${unit} ${C_NAME}: do not edit.
+#include \"${prefix}.h\"
+#include \"rayunits/tb/verilated_dut.hpp\"
+
+namespace {
+void bind_ports(${prefix}& m, ru::tb::PortMap& pm) {
+${bind}}
+ru::tb::ConfigRegistrar reg{ru::tb::ConfigDesc{
+    \"${unit}\", \"${C_NAME}\", \"${prefix}\", {${cparams}}, {${ctags}},
+    [](const ru::tb::DutOptions& o) -> std::unique_ptr<ru::tb::Dut> {
+      return std::make_unique<ru::tb::VerilatedDut<${prefix}>>(o, &bind_ports);
+    }}};
+}  // namespace
+")
+    target_sources(${target} PRIVATE ${gendir}/${prefix}_glue.cpp)
+    set(trace_opt TRACE_FST)
+    if(A_NO_TRACE)
+      set(trace_opt "")
+    endif()
+    verilate(${target} PREFIX ${prefix} TOP_MODULE ${module} ${trace_opt}
+      SOURCES ${srcs}
+      VERILATOR_ARGS ${common_args} ${gargs})
+    # Build cost: Verilator writes ~9 small .cpp files per model and every one of them parses
+    # the heavy Verilator headers. Compile them as two unity translation units per model
+    # instead (fast path with RU_TB_OPT_FAST, constructors/tracing with RU_TB_OPT_SLOW): 3-4x
+    # less compile time for the small FP units. The generated files stay in the target as
+    # HEADER_FILE_ONLY so that Verilator's custom command still (re)generates them.
+    set(vdir ${CMAKE_CURRENT_BINARY_DIR}/CMakeFiles/${target}.dir/${prefix}.dir)
+    include(${vdir}/${prefix}_copy.cmake)
+    set(part_fast ${${prefix}_CLASSES_FAST} ${${prefix}_SUPPORT_FAST})
+    set(part_slow ${${prefix}_CLASSES_SLOW} ${${prefix}_SUPPORT_SLOW})
+    foreach(kind fast slow)
+      set(ufile ${gendir}/${prefix}__${kind}_unity.cpp)
+      set(content "// Generated by tb/cmake/RuTb.cmake: unity build of ${prefix} (${kind} part).\n")
+      foreach(f ${part_${kind}})
+        string(APPEND content "#include \"${f}\"\n")
+      endforeach()
+      file(CONFIGURE OUTPUT ${ufile} CONTENT "${content}" @ONLY)
+      set_source_files_properties(${part_${kind}} PROPERTIES HEADER_FILE_ONLY ON)
+      if(kind STREQUAL "fast")
+        set(uopt ${RU_TB_OPT_FAST})
+      else()
+        set(uopt ${RU_TB_OPT_SLOW})
+      endif()
+      set_source_files_properties(${ufile} PROPERTIES OBJECT_DEPENDS "${part_${kind}}"
+        COMPILE_OPTIONS "-w;${uopt}")
+      target_sources(${target} PRIVATE ${ufile})
+    endforeach()
+    if(NOT A_NO_LINT)
+      add_test(NAME ${unit}_${C_NAME}.lint
+        COMMAND ${VERILATOR_BIN} --lint-only -Wall --top-module ${module} ${gargs} ${srcs})
+      if(A_LONG)
+        set_tests_properties(${unit}_${C_NAME}.lint PROPERTIES LABELS long)
+      endif()
+    endif()
+  endforeach()
+  # Verilator's runtime (verilated.cpp, verilated_fst_c.cpp, verilated_threads.cpp) is
+  # compiled once for all executables (ru_tb_vlrt) instead of once per verilate() target.
+  get_target_property(tsrcs ${target} SOURCES)
+  list(FILTER tsrcs EXCLUDE REGEX "^${VERILATOR_ROOT}/include/.*\\.cpp$")
+  set_property(TARGET ${target} PROPERTY SOURCES ${tsrcs})
+  target_link_libraries(${target} PRIVATE ru_tb_vlrt)
+  # Verilator's headers and the generated model headers are SYSTEM includes, so the glue code
+  # stays -Wall -Wextra clean.
+  get_target_property(tincs ${target} INCLUDE_DIRECTORIES)
+  target_include_directories(${target} SYSTEM PRIVATE ${tincs})
+  list(LENGTH all_names n)
+  set(${target}_MODELS ${n} PARENT_SCOPE)
+endfunction()
+
+function(ru_tb_add_tests target)
+  cmake_parse_arguments(A "LONG;NO_TRACE;NO_LINT" "UNIT" "CONFIGS" ${ARGN})
+  _ru_tb_unit_sources(${target} ${A_UNIT} "${A_CONFIGS}" srcs)
+  if(NOT srcs)
+    return()  # the unit's RTL is missing or broken (see the message): no executable
+  endif()
+  add_executable(${target} $<TARGET_OBJECTS:ru_tb_main>)
+  target_link_libraries(${target} PRIVATE ru_tb_units ru_tb_core rayunits_model GTest::gtest Threads::Threads)
+  target_compile_options(${target} PRIVATE ${RU_WARN})
+  ru_tb_add_models(${target} ${ARGN})
+  if(A_LONG)
+    gtest_discover_tests(${target} PROPERTIES LABELS long DISCOVERY_TIMEOUT 120
+      WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR})
+  else()
+    gtest_discover_tests(${target} TEST_FILTER "-Long*" DISCOVERY_TIMEOUT 120
+      WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR})
+    gtest_discover_tests(${target} TEST_FILTER "Long*" PROPERTIES LABELS long DISCOVERY_TIMEOUT 120
+      WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR})
+  endif()
+endfunction()

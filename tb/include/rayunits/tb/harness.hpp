@@ -1,0 +1,168 @@
+// rayunits tb: the generic cycle-by-cycle scoreboard.
+//
+// One harness for every RTL unit of the project. A unit plugs in through a thin UnitAdapter
+// (its input and output records, how to drive/read its data ports, and its golden-model
+// function); stimulus comes from a VectorSource. The harness owns the interface convention
+// shared by all units: clk_i, rst_ni (active low), in_valid_i, out_valid_o, latency = Stages.
+//
+// Cycle t (see tb/README.md for the full contract):
+//   1. drive rst_ni, in_valid_i and the data inputs (random junk when in_valid_i = 0);
+//      if the input is valid, compute the model's answer now and put it in slot t of the queue;
+//   2. clk_i = 0, eval: combinational outputs settle;
+//   3. unless rst_ni = 0 in this cycle: out_valid_o must equal "an input was issued in cycle
+//      t - Stages (and no reset since)"; if so, every output bit must equal the model's answer.
+//      When nothing was issued Stages cycles earlier, out_valid_o must be 0 and the data
+//      outputs are don't-care (not compared);
+//   4. clk_i = 1, eval: rising edge.
+// Reset (mid-stream, random, 1-3 cycles): every in-flight input is dropped from the queue (and
+// re-issued later, so every vector is still checked); inputs presented while rst_ni = 0 (the
+// harness drives in_valid_i randomly then) must be dropped by the DUT. Outputs are not
+// compared in reset cycles; from the first cycle after reset on, a result that the queue does
+// not expect (a stale one) is an error.
+#pragma once
+
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "rayunits/tb/dut.hpp"
+#include "rayunits/tb/port.hpp"
+
+namespace ru::tb {
+
+constexpr int kMaxFields = 24;  // per input or output record; each field is at most 64 bits
+
+struct Record {
+  uint64_t v[kMaxFields];
+};
+
+enum class FieldKind : uint8_t { Hex, Float, Flags, Enum };
+
+struct FieldInfo {
+  std::string name;  // "a_i", "a0", "op_i", "y_o", ...
+  int bits = 1;      // 1..64
+  FieldKind kind = FieldKind::Hex;
+  std::vector<std::string> enum_names;  // FieldKind::Enum: name of each value
+  uint64_t mask() const { return bits >= 64 ? ~0ull : ((1ull << bits) - 1); }
+};
+
+// The per-unit part. Records hold one uint64_t per field, in the order of inputs()/outputs().
+class UnitAdapter {
+ public:
+  virtual ~UnitAdapter() = default;
+  virtual std::string describe() const = 0;  // e.g. "fp_mul e8m23 rne Stages=3"
+  virtual const std::vector<FieldInfo>& inputs() const = 0;
+  virtual const std::vector<FieldInfo>& outputs() const = 0;
+  virtual void bind(const PortMap& ports) = 0;  // look up the data ports once
+  virtual void drive(const Record& in) = 0;     // write the data input ports
+  virtual void read(Record& out) = 0;           // read the data output ports
+  virtual void model(const Record& in, Record& out) = 0;  // the golden model's answer
+  // Human-readable value ("1.5", "-inf", "qNaN", "ix", "le"); hex is printed by the harness.
+  virtual std::string decimal(const FieldInfo& f, uint64_t v) const;
+  // Vector files (tb/README.md): parse "<op> <operands...>" and "<outputs...>" (after "->").
+  // out_mask gets bit i set for every output field i that the file specifies ("?" = unchecked).
+  virtual void parse_inputs(const std::vector<std::string>& tokens, Record& in) const;
+  virtual void parse_outputs(const std::vector<std::string>& tokens, Record& out,
+                             uint32_t& out_mask) const;
+};
+
+class VectorSource {
+ public:
+  virtual ~VectorSource() = default;
+  virtual bool next(Record& in) = 0;            // false when exhausted
+  virtual uint64_t total() const { return 0; }  // number of vectors if known (progress lines)
+};
+
+// A fixed list of records (vector files, the benchmark's pre-generated stream).
+class ArraySource final : public VectorSource {
+ public:
+  explicit ArraySource(std::vector<Record> v) : own_(std::move(v)), v_(&own_) {}
+  // Borrows `v` (must outlive the source).
+  explicit ArraySource(const std::vector<Record>* v) : v_(v) {}
+  bool next(Record& in) override {
+    if (i_ >= v_->size()) return false;
+    in = (*v_)[i_++];
+    return true;
+  }
+  uint64_t total() const override { return v_->size(); }
+
+ private:
+  std::vector<Record> own_;
+  const std::vector<Record>* v_;
+  size_t i_ = 0;
+};
+
+enum class Traffic : uint8_t {
+  Mixed,       // bursts, bubbles, random 50% and sparse stretches, long back-to-back runs
+  BackToBack,  // a valid input every cycle (benchmark; pipelines stay full)
+};
+
+// Planted errors that prove the harness fails (tests/inject tests in tb/src/selftest.cpp).
+struct Injection {
+  int64_t flip_item = -1;  // flip one bit of the expected output of the item issued as #flip_item
+  int flip_field = 0, flip_bit = 0;
+  int latency_delta = 0;    // expect results Stages + latency_delta cycles after issue
+  bool skip_reset = false;  // at resets: drop the expectations but leave rst_ni high (a DUT
+                            // whose reset does not clear its pipeline: stale results follow)
+};
+
+struct RunOptions {
+  std::string test = "tb";  // name used in messages
+  uint64_t seed = 1;
+  int stages = 0;  // the DUT's latency
+  Traffic traffic = Traffic::Mixed;
+  uint32_t reset_every = 3000;          // mean cycles between random resets (0: none mid-stream)
+  std::vector<uint64_t> reset_at;       // additional resets forced at these cycles
+  int max_errors = 5;                   // stop after this many mismatches
+  bool check = true;                    // false: drive only, no model, no compare (benchmark)
+  std::string trace_path;               // non-empty: write an FST (Dut made with trace = true)
+  uint64_t trace_from = 0;              // first cycle written to the trace
+  uint64_t stop_after_cycle = ~0ull;    // end the run after this cycle (trace re-runs)
+  bool progress = false;                // progress lines on stderr every few seconds
+  bool quiet = false;                   // do not print mismatch reports (traced re-runs)
+  std::string format;                   // printed in mismatch reports ("e8m23 rne")
+  std::string rerun_hint;               // printed in mismatch reports (how to reproduce)
+  Injection inject;
+};
+
+struct Mismatch {
+  enum Kind : uint8_t { Data, MissingValid, UnexpectedValid };
+  Kind kind = Data;
+  uint64_t cycle = 0;        // cycle whose outputs were wrong
+  int64_t item = -1;         // issue index of the expected item (-1: none expected)
+  uint32_t field_mask = 0;   // Data: output fields that differ
+  std::string report;        // the full multi-line report that was printed
+};
+
+struct RunStats {
+  uint64_t cycles = 0, issued = 0, checked = 0, dropped = 0, resets = 0;
+  double seconds = 0;      // wall clock
+  double cpu_seconds = 0;  // CPU time of the calling thread (robust on a loaded machine)
+  std::vector<Mismatch> errors;
+  bool aborted = false;  // stopped at max_errors
+  bool ok() const { return errors.empty(); }
+};
+
+// Runs the stream from `src` through `dut` until the source is exhausted (plus a drain of
+// Stages+1 idle cycles) or max_errors mismatches. Prints mismatch reports on stderr.
+RunStats run(Dut& dut, UnitAdapter& adapter, VectorSource& src, const RunOptions& opt);
+
+// Small deterministic PRNG (xoshiro256**, seeded by splitmix64) used by the harness and sources.
+class Rng {
+ public:
+  explicit Rng(uint64_t seed);
+  uint64_t next();
+  uint64_t below(uint64_t n);  // uniform in [0, n), n > 0
+  bool chance(uint32_t num, uint32_t den) { return below(den) < num; }
+
+ private:
+  uint64_t s_[4];
+};
+uint64_t mix_seed(uint64_t seed, const std::string& salt);  // derive independent stream seeds
+
+std::string hex(uint64_t v, int bits);  // "0x0003f800" with the field's digit count
+
+}  // namespace ru::tb

@@ -1,0 +1,271 @@
+// rayunits tb: tests of the scoreboard harness itself, without Verilator.
+//
+// SoftPipe is a software DUT with the project's interface (clk_i, rst_ni, in_valid_i, a_i, b_i,
+// out_valid_o, y_o, flags_o) that computes ru::num::mul with a configurable latency, and that
+// can carry real DUT-side bugs: a reset that does not clear the pipeline, one extra pipeline
+// stage, one flipped result bit, one dropped valid bit. The harness must accept the correct
+// DUT (with an asynchronous or a synchronous reset) and report every bug.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <vector>
+
+#include "rayunits/num/format.hpp"
+#include "rayunits/tb/fp.hpp"
+#include "rayunits/tb/harness.hpp"
+#include "rayunits/tb/testing.hpp"
+#include "rayunits/tb/vector_file.hpp"
+
+namespace ru::tb {
+namespace {
+
+using ru::num::Format;
+
+enum class Bug { None, NoReset, ExtraStage, FlipBit, DropValid, SyncReset };
+
+class SoftPipe final : public Dut {
+ public:
+  SoftPipe(const Format& f, int stages, Bug bug, uint64_t bug_item = 0)
+      : f_(f), bug_(bug), bug_item_(bug_item), depth_(stages + (bug == Bug::ExtraStage ? 1 : 0)),
+        valid_(depth_, false), y_(depth_, 0), fl_(depth_, 0) {
+    pm_.add("clk_i", Port(&clk_, 1));
+    pm_.add("rst_ni", Port(&rst_, 1));
+    pm_.add("in_valid_i", Port(&in_valid_, 1));
+    pm_.add("a_i", Port(&a_, f.width()));
+    pm_.add("b_i", Port(&b_, f.width()));
+    pm_.add("out_valid_o", Port(&out_valid_, 1));
+    pm_.add("y_o", Port(&y_out_, f.width()));
+    pm_.add("flags_o", Port(&flags_out_, 5));
+    for (size_t i = 0; i < valid_.size(); ++i) valid_[i] = (i * 7 + 3) % 2;  // "X" at power-up
+  }
+  void eval() override {
+    // Bug::NoReset: the power-up reset works, later ones do not clear the pipeline.
+    if (!rst_) had_reset_ = true;
+    if (rst_ && had_reset_) released_ = true;
+    reset_active_ = !rst_ && !(bug_ == Bug::NoReset && released_);
+    if (reset_active_ && bug_ != Bug::SyncReset) std::fill(valid_.begin(), valid_.end(), false);
+    if (clk_ && !last_clk_) edge();
+    last_clk_ = clk_;
+    const ru::num::Result r = ru::num::mul(f_, a_, b_);
+    if (depth_ == 0) {
+      out_valid_ = in_valid_;
+      y_out_ = r.bits;
+      flags_out_ = r.flags;
+    } else {
+      out_valid_ = valid_.back();
+      y_out_ = y_.back();
+      flags_out_ = fl_.back();
+    }
+  }
+  const PortMap& ports() const override { return pm_; }
+  bool trace_open(const std::string&) override { return false; }
+  void trace_dump(uint64_t) override {}
+  void trace_close() override {}
+
+ private:
+  void edge() {
+    if (reset_active_) {  // synchronous reset (and the asynchronous one held over the edge)
+      std::fill(valid_.begin(), valid_.end(), false);
+      return;
+    }
+    if (depth_ == 0) return;
+    for (int i = depth_ - 1; i > 0; --i) valid_[i] = valid_[i - 1], y_[i] = y_[i - 1], fl_[i] = fl_[i - 1];
+    const ru::num::Result r = ru::num::mul(f_, a_, b_);
+    bool v = in_valid_ != 0;
+    uint64_t y = r.bits;
+    if (v && !reset_active_) {
+      if (count_ == bug_item_ && bug_ == Bug::FlipBit) y ^= 1ull << 3;
+      if (count_ == bug_item_ && bug_ == Bug::DropValid) v = false;
+      ++count_;
+    }
+    valid_[0] = v;
+    y_[0] = y;
+    fl_[0] = r.flags;
+  }
+  Format f_;
+  Bug bug_;
+  uint64_t bug_item_;
+  int depth_;
+  std::vector<bool> valid_;
+  std::vector<uint64_t> y_;
+  std::vector<uint8_t> fl_;
+  uint8_t clk_ = 0, last_clk_ = 0, rst_ = 1, in_valid_ = 0, out_valid_ = 0, flags_out_ = 0;
+  uint64_t a_ = 0, b_ = 0, y_out_ = 0;
+  uint64_t count_ = 0;
+  bool had_reset_ = false, released_ = false, reset_active_ = false;
+  PortMap pm_;
+};
+
+RunStats run_soft(int stages, Bug bug, uint64_t n, uint32_t reset_every = 50, uint64_t bug_item = 0,
+                  Traffic traffic = Traffic::Mixed) {
+  Format f = Format::parse("e5m10");
+  SoftPipe dut(f, stages, bug, bug_item);
+  FpAdapter ad(*fp_unit_spec("fp_mul"), f, stages);
+  auto src = fp_random_source(*fp_unit_spec("fp_mul"), f, 11, n);
+  RunOptions o;
+  o.test = "soft";
+  o.seed = 5;
+  o.stages = stages;
+  o.reset_every = reset_every;
+  o.traffic = traffic;
+  o.quiet = true;
+  return run(dut, ad, *src, o);
+}
+
+TEST(TbHarness, CorrectDutPassesEveryLatencyAndResetStyle) {
+  for (int s : {0, 1, 2, 5}) {
+    for (Bug b : {Bug::None, Bug::SyncReset}) {
+      const RunStats st = run_soft(s, b, 3000);
+      EXPECT_TRUE(st.ok()) << "Stages " << s << ": " << (st.errors.empty() ? "" : st.errors[0].report);
+      EXPECT_EQ(st.checked, 3000u);
+      if (s > 0) {
+        EXPECT_GT(st.dropped, 0u) << "resets never hit an in-flight result";
+      }
+      EXPECT_GT(st.resets, 20u);
+    }
+  }
+}
+
+TEST(TbHarness, ReportsStaleResultsOfADutWhoseResetKeepsItsPipeline) {
+  for (int s : {1, 2, 5}) {
+    const RunStats st = run_soft(s, Bug::NoReset, 3000);
+    ASSERT_FALSE(st.ok()) << "Stages " << s;
+    EXPECT_EQ(st.errors[0].kind, Mismatch::UnexpectedValid);
+    EXPECT_NE(st.errors[0].report.find("last reset in cycle"), std::string::npos);
+  }
+}
+
+TEST(TbHarness, ReportsAnExtraPipelineStage) {
+  for (int s : {0, 1, 4}) {
+    const RunStats st = run_soft(s, Bug::ExtraStage, 1000);
+    ASSERT_FALSE(st.ok()) << "Stages " << s;
+    EXPECT_EQ(st.errors[0].kind, Mismatch::MissingValid);
+    EXPECT_TRUE(st.aborted);
+  }
+}
+
+TEST(TbHarness, ReportsOneFlippedBitExactlyOnce) {
+  const RunStats st = run_soft(3, Bug::FlipBit, 2000, 0, 1234);
+  ASSERT_EQ(st.errors.size(), 1u);
+  EXPECT_EQ(st.errors[0].kind, Mismatch::Data);
+  EXPECT_EQ(st.errors[0].item, 1234);
+  EXPECT_EQ(st.errors[0].field_mask, 1u);  // y_o only
+  EXPECT_NE(st.errors[0].report.find("xor 0x0008"), std::string::npos) << st.errors[0].report;
+}
+
+TEST(TbHarness, ReportsOneDroppedValid) {
+  const RunStats st = run_soft(2, Bug::DropValid, 2000, 0, 777, Traffic::BackToBack);
+  ASSERT_EQ(st.errors.size(), 1u);
+  EXPECT_EQ(st.errors[0].kind, Mismatch::MissingValid);
+  EXPECT_EQ(st.errors[0].item, 777);
+}
+
+TEST(TbHarness, StopsAfterMaxErrorsAndReportsInputsExpectedActual) {
+  Format f = Format::parse("e5m10");
+  SoftPipe dut(f, 2, Bug::ExtraStage);
+  FpAdapter ad(*fp_unit_spec("fp_mul"), f, 2);
+  auto src = fp_random_source(*fp_unit_spec("fp_mul"), f, 3, 500);
+  RunOptions o;
+  o.stages = 2;
+  o.max_errors = 3;
+  o.quiet = true;
+  o.seed = 99;
+  const RunStats st = run(dut, ad, *src, o);
+  ASSERT_EQ(st.errors.size(), 3u);
+  EXPECT_TRUE(st.aborted);
+  const std::string& r = st.errors[0].report;
+  for (const char* s : {"seed=99", "fp_mul e5m10 rne", "Stages=2", "a_i = 0x", "b_i = 0x", "expected"})
+    EXPECT_NE(r.find(s), std::string::npos) << s << " missing in:\n" << r;
+}
+
+TEST(TbPort, WideAndNarrowPortsRoundTrip) {
+  uint32_t words[6] = {};
+  Port p(words, 190);
+  const uint64_t in[3] = {0x0123456789abcdefull, 0xfedcba9876543210ull, ~0ull};
+  p.set_words(in, 3);
+  EXPECT_EQ(words[5], 0x3fffffffu);  // bits above 190 cleared
+  uint64_t out[3];
+  p.get_words(out);
+  EXPECT_EQ(out[0], in[0]);
+  EXPECT_EQ(out[1], in[1]);
+  EXPECT_EQ(out[2], in[2] & ((1ull << 62) - 1));
+  uint8_t b = 0;
+  Port q(&b, 5);
+  q.set(0xff);
+  EXPECT_EQ(b, 0x1f);
+  EXPECT_THROW(Port(&b, 9), std::logic_error);
+}
+
+std::string write_tmp(const std::string& name, const std::string& text) {
+  const std::string path = ::testing::TempDir() + name;
+  std::ofstream(path) << text;
+  return path;
+}
+
+TEST(TbVectorFile, ParsesOperandsOutputsAndDirectives) {
+  Format f = Format::parse("e8m23");
+  FpAdapter ad(*fp_unit_spec("fp_add"), f, 0);
+  const std::string p = write_tmp("ok.txt",
+                                  "# c\nformat e8m23\nround rne\n\nadd 1 2 -> 3 -\nsub 0x3f800000 1.5 # x\n"
+                                  "add 1 2 -> ? ix\n");
+  const VectorFile vf = read_vector_file(p, ad);
+  EXPECT_EQ(vf.format, "e8m23");
+  EXPECT_EQ(vf.round, "rne");
+  ASSERT_EQ(vf.vectors.size(), 3u);
+  EXPECT_EQ(vf.vectors[0].in.v[1], 0x3f800000u);
+  EXPECT_EQ(vf.vectors[0].out.v[0], 0x40400000u);
+  EXPECT_EQ(vf.vectors[0].out_mask, 3u);
+  EXPECT_EQ(vf.vectors[1].in.v[0], 1u);  // sub
+  EXPECT_EQ(vf.vectors[1].in.v[2], 0x3fc00000u);
+  EXPECT_EQ(vf.vectors[1].out_mask, 0u);
+  EXPECT_EQ(vf.vectors[2].out_mask, 2u);
+  EXPECT_EQ(vf.vectors[2].out.v[1], static_cast<uint64_t>(ru::num::kInvalid | ru::num::kInexact));
+}
+
+TEST(TbVectorFile, BadLinesGiveFileAndLine) {
+  Format f = Format::parse("e8m23");
+  FpAdapter ad(*fp_unit_spec("fp_mul"), f, 0);
+  struct Case {
+    const char* text;
+    const char* msg;
+  };
+  for (const Case& c : {Case{"mul 1\n", ":1: mul takes 2 operands"}, Case{"\nadd 1 2\n", ":2: unknown op 'add'"},
+                        Case{"mul 1 zz\n", ":1:"}, Case{"mul 1 2 -> 2\n", ":1: expected outputs"},
+                        Case{"mul 1 2 -> 2 q\n", ":1: bad flags"}, Case{"mul 1 2\nformat e8m23\n", ":2: 'format' must come before"},
+                        Case{"mul 0x1ffffffff 1\n", ":1:"}}) {
+    const std::string p = write_tmp("bad.txt", c.text);
+    try {
+      read_vector_file(p, ad);
+      ADD_FAILURE() << "accepted: " << c.text;
+    } catch (const std::runtime_error& e) {
+      EXPECT_NE(std::string(e.what()).find(c.msg), std::string::npos) << e.what();
+      EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << "not one line: " << e.what();
+    }
+  }
+  EXPECT_THROW(read_vector_file("/nonexistent/x.txt", ad), std::runtime_error);
+}
+
+TEST(TbOptions, ParsesAndRejects) {
+  {
+    char a0[] = "tb", a1[] = "--seed=42", a2[] = "--gtest_filter=x", a3[] = "--vectors=7";
+    char* argv[] = {a0, a1, a2, a3, nullptr};
+    int argc = 4;
+    ASSERT_TRUE(parse_options(argc, argv));
+    EXPECT_EQ(argc, 2);
+    EXPECT_EQ(std::string(argv[1]), "--gtest_filter=x");
+    EXPECT_EQ(global_options().seed, 42u);
+    EXPECT_EQ(global_options().vectors, 7);
+  }
+  for (const char* bad : {"--seed=abc", "--seed=-1", "--vectors=", "--max-errors=0", "--frobnicate", "--trace=3"}) {
+    char a0[] = "tb";
+    std::string s = bad;
+    char* argv[] = {a0, s.data(), nullptr};
+    int argc = 2;
+    EXPECT_FALSE(parse_options(argc, argv)) << bad;
+  }
+  global_options() = GlobalOptions{};
+}
+
+}  // namespace
+}  // namespace ru::tb
