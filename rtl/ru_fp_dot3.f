@@ -7,4 +7,5 @@ ru_fp_round_pack.sv
 ru_umul.sv
 ru_fp_add.sv
 ru_fp_mul.sv
+ru_fp_dot3_core.sv
 ru_fp_dot3.sv

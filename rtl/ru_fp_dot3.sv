@@ -4,7 +4,8 @@
 // b_i = {b2, b1, b0} (W bits each, a0 in the least significant bits).
 //
 // Built from three ru_fp_mul (in parallel), an ru_fp_add for p0 + p1 and an ru_fp_add for
-// (p0 + p1) + p2; p2 and the first flags wait in ru_fp_pipe delay lines meanwhile.
+// (p0 + p1) + p2 (ru_fp_dot3_core, shared with the ray-triangle units); p2 and the first flags
+// wait in ru_fp_pipe delay lines meanwhile.
 //
 // Parameters: ExpW (2..11), FracW (1..52), Stages (latency in cycles, 0 = combinational),
 // Subnormals (1 gradual underflow, 0 flush-to-zero), Round (0 RNE, 1 RTZ, 2 RDN, 3 RUP).
@@ -39,7 +40,6 @@ module ru_fp_dot3 #(
   output logic [4:0]                flags_o
 );
 
-  localparam int unsigned W = 1 + ExpW + FracW;
   localparam int unsigned Lm = ru_fp_pkg::mul_nseg(FracW);
   localparam int unsigned La = ru_fp_pkg::add_nseg();
   localparam logic [63:0] Cuts = ru_fp_pkg::cut_mask(
@@ -53,75 +53,18 @@ module ru_fp_dot3 #(
   localparam int unsigned Add1Stages = ru_fp_pkg::popcount(Add1Cuts) + 32'(Cuts[Lm+La-1]);
   localparam int unsigned Add2Stages = ru_fp_pkg::popcount(Add2Cuts) + OutRegs;
 
-  // ---- products ----------------------------------------------------------------------------
-  logic [2:0]     p_valid;
-  logic [3*W-1:0] p;
-  logic [14:0]    p_flags;
-  for (genvar i = 0; i < 3; i++) begin : gen_mul
-    ru_fp_mul #(
-      .ExpW(ExpW), .FracW(FracW), .Stages(MulStages), .Subnormals(Subnormals), .Round(Round),
-      .CutSel(MulCuts)
-    ) u_mul (
-      .clk_i, .rst_ni,
-      .in_valid_i (in_valid_i),
-      .a_i        (a_i[i*W+:W]),
-      .b_i        (b_i[i*W+:W]),
-      .out_valid_o(p_valid[i]),
-      .y_o        (p[i*W+:W]),
-      .flags_o    (p_flags[i*5+:5])
-    );
-  end
-
-  // ---- s = p0 + p1; p2 and the product flags wait ---------------------------------------------
-  logic         s_valid, d_valid;
-  logic [W-1:0] s, d_p2;
-  logic [4:0]   s_flags, d_flags;
-  ru_fp_add #(
-    .ExpW(ExpW), .FracW(FracW), .Stages(Add1Stages), .Subnormals(Subnormals), .Round(Round),
-    .CutSel(Add1Cuts)
-  ) u_add1 (
+  ru_fp_dot3_core #(
+    .ExpW(ExpW), .FracW(FracW), .Subnormals(Subnormals), .Round(Round),
+    .MulStages(MulStages), .MulCuts(MulCuts), .Add1Stages(Add1Stages), .Add1Cuts(Add1Cuts),
+    .Add2Stages(Add2Stages), .Add2Cuts(Add2Cuts)
+  ) u_core (
     .clk_i, .rst_ni,
-    .in_valid_i (p_valid[0]),
-    .a_i        (p[0+:W]),
-    .b_i        (p[W+:W]),
-    .op_i       (1'b0),
-    .out_valid_o(s_valid),
-    .y_o        (s),
-    .flags_o    (s_flags)
+    .valid_i(in_valid_i),
+    .u_i    (a_i),
+    .v_i    (b_i),
+    .valid_o(out_valid_o),
+    .y_o,
+    .flags_o
   );
-  ru_fp_pipe #(.Width(W + 5), .Depth(Add1Stages)) u_wait1 (
-    .clk_i, .rst_ni,
-    .valid_i(p_valid[0]),
-    .data_i ({p[2*W+:W], p_flags[0+:5] | p_flags[5+:5] | p_flags[10+:5]}),
-    .valid_o(d_valid),
-    .data_o ({d_p2, d_flags})
-  );
-
-  // ---- y = s + p2 ---------------------------------------------------------------------------
-  logic       unused_valid;
-  logic [4:0] y_flags, e_flags;
-  assign unused_valid = d_valid ^ p_valid[1] ^ p_valid[2];  // all equal to the used ones
-  ru_fp_add #(
-    .ExpW(ExpW), .FracW(FracW), .Stages(Add2Stages), .Subnormals(Subnormals), .Round(Round),
-    .CutSel(Add2Cuts)
-  ) u_add2 (
-    .clk_i, .rst_ni,
-    .in_valid_i (s_valid),
-    .a_i        (s),
-    .b_i        (d_p2),
-    .op_i       (1'b0),
-    .out_valid_o(out_valid_o),
-    .y_o        (y_o),
-    .flags_o    (y_flags)
-  );
-  logic unused_e_valid;
-  ru_fp_pipe #(.Width(5), .Depth(Add2Stages)) u_wait2 (
-    .clk_i, .rst_ni,
-    .valid_i(s_valid),
-    .data_i (s_flags | d_flags),
-    .valid_o(unused_e_valid),
-    .data_o (e_flags)
-  );
-  assign flags_o = y_flags | e_flags;
 
 endmodule

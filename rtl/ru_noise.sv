@@ -11,7 +11,7 @@
 //                  fraction bits: u = x_i / 2^FracBits in half-resolution cells; the cell index
 //                  is floor(u) mod 256 (coordinates wrap with the tables).
 //   value_o        signed OutW bits, value_o / 2^(OutW+1) ~= N(u), the half-resolution noise in
-//                  cell units (|N| < 0.1805); saturated to OutW bits.
+//                  cell units (|N| <= 0.1807, docs/NOISE.md); saturated to OutW bits.
 //
 // Tables are `case` functions generated into ru_noise_tables.svh (do not edit that file; the
 // generator is `rayunits noise tables --write`).

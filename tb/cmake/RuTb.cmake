@@ -1,9 +1,12 @@
 # rayunits tb: CMake helpers for Verilated cycle-by-cycle scoreboard tests (see tb/README.md).
 #
-#   ru_tb_unit(<unit> MODULE <rtl top> FILELIST <file.f> PORTS <name:width>... [PARAMS <p>...])
+#   ru_tb_unit(<unit> MODULE <rtl top> FILELIST <file.f> PORTS <name:width>...
+#              [DEFAULTS <Name=int>...])
 #       Declares a unit: its RTL module, the Verilator file list of its sources (paths relative
 #       to the .f file), and its ports. Port widths are CMake math expressions in W (= 1+E+M),
 #       E (= ExpW), M (= FracW) and any parameter P given in a configuration, e.g. "a_i:3*W".
+#       DEFAULTS: the RTL's parameter defaults, used where a configuration does not override
+#       them (port widths, and the parameters the test plan sees); not part of the name.
 #
 #   ru_tb_add_tests(<target> UNIT <unit> CONFIGS <cfg>... [LONG] [NO_TRACE] [NO_LINT])
 #       One executable <target>; one Verilator model per configuration (unique PREFIX
@@ -14,12 +17,16 @@
 #       of the target with Long_ (label long). A lint test <unit>_<config>.lint
 #       (verilator --lint-only -Wall) is added per configuration unless NO_LINT.
 #
-# Configuration syntax: "<format>:s<Stages>[:<round>][:<tag>...]", tokens separated by ':'
-#   <format>  eXmY or eXmY-ftz (Subnormals=0)    <round>  rne (default) | rtz | rdn | rup
+# Configuration syntax: "[<format>:]s<Stages>[:<round>][:Name=<int>...][:<tag>...]", tokens
+# separated by ':'
+#   <format>  eXmY or eXmY-ftz: ExpW=X FracW=Y Subnormals=1|0 (and Round, default rne);
+#             omit it for units without a floating-point format (no W/E/M in port widths)
+#   <round>   rne | rtz | rdn | rup: Round=0..3
+#   Name=int  any other RTL parameter override (part of the configuration name)
 #   tags      exhaustive (all operand combinations), selftest (planted-error tests),
-#             n=<count> (random vectors), Name=<int> (any other RTL parameter override)
-# e.g. "e8m23:s3", "e5m10-ftz:s2:rtz", "e4m3:s1:exhaustive", "e11m52:s9:n=1000000".
-# Configuration names: e8m23_s3, e5m10_ftz_s2_rtz (tags other than Name=... are not in names).
+#             n=<count> (random vectors); lower-case, not part of the name
+# e.g. "e8m23:s3", "e5m10-ftz:s2:rtz", "e4m3:s1:exhaustive", "e11m52:s9:n=1000000",
+# "s4:FracBits=8". Names: e8m23_s3, e5m10_ftz_s2_rtz, s4_FracBits8.
 
 set(RU_TB_DIR ${CMAKE_CURRENT_LIST_DIR}/..)
 
@@ -35,7 +42,7 @@ if(NOT TARGET ru_tb_vlrt)
 endif()
 
 function(ru_tb_unit unit)
-  cmake_parse_arguments(A "" "MODULE;FILELIST" "PORTS;SOURCES" ${ARGN})
+  cmake_parse_arguments(A "" "MODULE;FILELIST" "PORTS;SOURCES;DEFAULTS" ${ARGN})
   if(NOT A_MODULE OR NOT A_PORTS)
     message(FATAL_ERROR "ru_tb_unit(${unit}): MODULE and PORTS are required")
   endif()
@@ -43,59 +50,59 @@ function(ru_tb_unit unit)
   set_property(GLOBAL PROPERTY RU_TB_UNIT_${unit}_FILELIST "${A_FILELIST}")
   set_property(GLOBAL PROPERTY RU_TB_UNIT_${unit}_SOURCES "${A_SOURCES}")
   set_property(GLOBAL PROPERTY RU_TB_UNIT_${unit}_PORTS "${A_PORTS}")
+  set_property(GLOBAL PROPERTY RU_TB_UNIT_${unit}_DEFAULTS "${A_DEFAULTS}")
 endfunction()
 
 # Parses one configuration string into variables in the caller's scope:
 # <out>_NAME, <out>_PARAMS (list of Name=Value), <out>_TAGS (list).
 function(_ru_tb_parse_config cfg out)
   string(REPLACE ":" ";" toks "${cfg}")
-  list(POP_FRONT toks fmt)
-  if(NOT fmt MATCHES "^e([0-9]+)m([0-9]+)(-ftz)?$")
-    message(FATAL_ERROR "ru_tb: bad configuration '${cfg}': expected eXmY[-ftz]:sN[:round][:tags]")
-  endif()
-  set(e ${CMAKE_MATCH_1})
-  set(m ${CMAKE_MATCH_2})
-  set(sub 1)
-  set(name "e${e}m${m}")
-  if(CMAKE_MATCH_3)
-    set(sub 0)
-    string(APPEND name "_ftz")
-  endif()
-  list(POP_FRONT toks st)
-  if(NOT st MATCHES "^s([0-9]+)$")
-    message(FATAL_ERROR "ru_tb: bad configuration '${cfg}': second token must be s<Stages>")
-  endif()
-  set(stages ${CMAKE_MATCH_1})
-  string(APPEND name "_s${stages}")
-  set(round 0)
-  set(params ExpW=${e} FracW=${m} Stages=${stages} Subnormals=${sub})
+  set(name "")
+  set(params "")
   set(tags "")
+  set(round "")
+  set(have_stages 0)
   foreach(t ${toks})
-    if(t STREQUAL "rne")
+    if(t MATCHES "^e([0-9]+)m([0-9]+)(-ftz)?$" AND name STREQUAL "")
+      set(sub 1)
+      set(name "e${CMAKE_MATCH_1}m${CMAKE_MATCH_2}")
+      if(CMAKE_MATCH_3)
+        set(sub 0)
+        string(APPEND name "_ftz")
+      endif()
+      list(APPEND params ExpW=${CMAKE_MATCH_1} FracW=${CMAKE_MATCH_2} Subnormals=${sub})
       set(round 0)
-    elseif(t STREQUAL "rtz")
-      set(round 1)
-      string(APPEND name "_rtz")
-    elseif(t STREQUAL "rdn")
-      set(round 2)
-      string(APPEND name "_rdn")
-    elseif(t STREQUAL "rup")
-      set(round 3)
-      string(APPEND name "_rup")
+    elseif(t MATCHES "^s([0-9]+)$")
+      set(have_stages 1)
+      list(APPEND params Stages=${CMAKE_MATCH_1})
+      string(APPEND name "_s${CMAKE_MATCH_1}")
+    elseif(t MATCHES "^(rne|rtz|rdn|rup)$")
+      list(FIND _RU_TB_ROUNDS ${t} round)
+      if(NOT t STREQUAL "rne")
+        string(APPEND name "_${t}")
+      endif()
     elseif(t MATCHES "^([A-Z][A-Za-z0-9_]*)=(-?[0-9]+)$")
       list(APPEND params "${t}")
       string(APPEND name "_${CMAKE_MATCH_1}${CMAKE_MATCH_2}")
     elseif(t MATCHES "^[a-z][a-z0-9_]*(=[A-Za-z0-9_.+-]+)?$")
       list(APPEND tags "${t}")
     else()
-      message(FATAL_ERROR "ru_tb: bad token '${t}' in configuration '${cfg}'")
+      message(FATAL_ERROR "ru_tb: bad token '${t}' in configuration '${cfg}' "
+        "(expected [eXmY[-ftz]:]sN[:rne|rtz|rdn|rup][:Name=int][:tag][:n=count])")
     endif()
   endforeach()
-  list(APPEND params Round=${round})
+  if(NOT have_stages)
+    message(FATAL_ERROR "ru_tb: configuration '${cfg}' has no s<Stages> token")
+  endif()
+  if(NOT round STREQUAL "")
+    list(APPEND params Round=${round})
+  endif()
+  string(REGEX REPLACE "^_" "" name "${name}")
   set(${out}_NAME ${name} PARENT_SCOPE)
   set(${out}_PARAMS ${params} PARENT_SCOPE)
   set(${out}_TAGS "${tags}" PARENT_SCOPE)
 endfunction()
+set(_RU_TB_ROUNDS rne rtz rdn rup)
 
 # Reads a Verilator .f file list (one path per line, '//' or '#' comments) into absolute paths.
 function(_ru_tb_read_filelist f out)
@@ -117,6 +124,17 @@ function(_ru_tb_read_filelist f out)
     list(APPEND files ${l})
   endforeach()
   set(${out} ${files} PARENT_SCOPE)
+endfunction()
+
+# -I<dir> for every directory holding one of the sources (for `include files next to them).
+function(_ru_tb_incdirs srcs out)
+  set(dirs "")
+  foreach(s ${srcs})
+    get_filename_component(d ${s} DIRECTORY)
+    list(APPEND dirs -I${d})
+  endforeach()
+  list(REMOVE_DUPLICATES dirs)
+  set(${out} ${dirs} PARENT_SCOPE)
 endfunction()
 
 # Checks that <unit>'s RTL exists and elaborates (first configuration); sets <out> to its
@@ -160,8 +178,9 @@ function(_ru_tb_unit_sources target unit configs out)
   foreach(p ${C_PARAMS})
     list(APPEND gargs -G${p})
   endforeach()
+  _ru_tb_incdirs("${srcs}" incs)
   execute_process(
-    COMMAND ${VERILATOR_BIN} --lint-only -Wno-fatal -Wno-lint -Wno-style --top-module ${module} ${gargs} ${srcs}
+    COMMAND ${VERILATOR_BIN} --lint-only -Wno-fatal -Wno-lint -Wno-style --top-module ${module} ${incs} ${gargs} ${srcs}
     RESULT_VARIABLE rc OUTPUT_VARIABLE vout ERROR_VARIABLE vout)
   if(rc)
     message(WARNING "ru_tb: ${target}: Verilator cannot elaborate ${module} (${C_NAME}); its tests are replaced by a failing placeholder:\n${vout}")
@@ -188,7 +207,8 @@ function(ru_tb_add_models target)
   endif()
   get_property(module GLOBAL PROPERTY RU_TB_UNIT_${unit}_MODULE)
   get_property(ports GLOBAL PROPERTY RU_TB_UNIT_${unit}_PORTS)
-  set(common_args -Wall -Wno-fatal --x-assign unique --x-initial unique)
+  _ru_tb_incdirs("${srcs}" incs)
+  set(common_args -Wall -Wno-fatal --x-assign unique --x-initial unique ${incs})
   if(RU_TB_VERILATOR_ARGS)
     list(APPEND common_args ${RU_TB_VERILATOR_ARGS})
   endif()
@@ -206,6 +226,14 @@ function(ru_tb_add_models target)
       list(APPEND tags long)
     endif()
     set(prefix V${unit}_${C_NAME})
+    # The unit's defaults for parameters this configuration does not set.
+    get_property(defaults GLOBAL PROPERTY RU_TB_UNIT_${unit}_DEFAULTS)
+    foreach(d ${defaults})
+      string(REGEX REPLACE "=.*" "" dk "${d}")
+      if(NOT C_PARAMS MATCHES "(^|;)${dk}=")
+        list(APPEND C_PARAMS ${d})
+      endif()
+    endforeach()
     # Width variables for the port expressions.
     set(vars "")
     foreach(p ${C_PARAMS})
@@ -215,10 +243,12 @@ function(ru_tb_add_models target)
       set(P_${k} ${v})
       list(APPEND vars ${k})
     endforeach()
-    math(EXPR P_W "1 + ${P_ExpW} + ${P_FracW}")
-    set(P_E ${P_ExpW})
-    set(P_M ${P_FracW})
-    list(APPEND vars W E M)
+    if(DEFINED P_ExpW AND DEFINED P_FracW)  # floating-point configurations
+      math(EXPR P_W "1 + ${P_ExpW} + ${P_FracW}")
+      set(P_E ${P_ExpW})
+      set(P_M ${P_FracW})
+      list(APPEND vars W E M)
+    endif()
     set(bind "")
     foreach(pdesc ${ports})
       string(REPLACE ":" ";" pd ${pdesc})
@@ -307,7 +337,7 @@ ru::tb::ConfigRegistrar reg{ru::tb::ConfigDesc{
     endforeach()
     if(NOT A_NO_LINT)
       add_test(NAME ${unit}_${C_NAME}.lint
-        COMMAND ${VERILATOR_BIN} --lint-only -Wall --top-module ${module} ${gargs} ${srcs})
+        COMMAND ${VERILATOR_BIN} --lint-only -Wall --top-module ${module} ${incs} ${gargs} ${srcs})
       if(A_LONG)
         set_tests_properties(${unit}_${C_NAME}.lint PROPERTIES LABELS long)
       endif()

@@ -373,7 +373,7 @@ TEST_F(Cli, BatchManyLines) {
 TEST_F(Cli, ReportTinyGrid) {
   TempDir t;
   fs::path out = t.path() / "rep";
-  Proc r = run("report --out " + quote(out.string()) + " --exp 8 --frac 10..11 --samples 3000 --seed 7");
+  Proc r = run("report --sections accuracy --out " + quote(out.string()) + " --exp 8 --frac 10..11 --samples 3000 --seed 7");
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("index.md"), std::string::npos);
   EXPECT_NE(r.err.find("report: accuracy:"), std::string::npos) << r.err;  // progress on stderr
@@ -400,7 +400,7 @@ TEST_F(Cli, ReportTinyGrid) {
   EXPECT_EQ(entries, 1);
 
   // A second run replaces the report (it carries the .rayunits-report marker).
-  Proc again = run("report --quiet --no-plots --out " + quote(out.string()) + " --exp 8 --frac 10 --samples 500");
+  Proc again = run("report --sections accuracy --quiet --no-plots --out " + quote(out.string()) + " --exp 8 --frac 10 --samples 500");
   ASSERT_EQ(again.code, 0) << again.err;
   EXPECT_EQ(again.err.find("report: accuracy:"), std::string::npos);  // --quiet
   EXPECT_EQ(count_lines(read_file(out / "accuracy.csv")), 5);
@@ -435,7 +435,7 @@ TEST_F(Cli, ReportErrorsAreBoundedByTheMath) {
   // |err| <= (1+2^-24)^3 - 1. e5m10 (max 65504) must overflow on values up to 2^19.
   TempDir t;
   fs::path out = t.path() / "rep";
-  Proc r = run("report --quiet --no-plots --out " + quote(out.string()) + " --exp 5..11 --frac 10..52 --samples 2000",
+  Proc r = run("report --sections accuracy --quiet --no-plots --out " + quote(out.string()) + " --exp 5..11 --frac 10..52 --samples 2000",
                "", "RU_PYTHON=/nonexistent/python3");  // --no-plots needs no python
   ASSERT_EQ(r.code, 0) << r.err;
   auto m = read_accuracy(out / "accuracy.csv");
@@ -463,30 +463,71 @@ TEST_F(Cli, ReportOutputErrors) {
   TempDir t;
   // Out dir below a regular file: cannot be created.
   write_file(t.path() / "file", "x");
-  expect_one_line_error(run("report --no-plots --out " + quote((t.path() / "file" / "rep").string()) + " --exp 8 --frac 10"),
+  expect_one_line_error(run("report --sections accuracy --no-plots --out " + quote((t.path() / "file" / "rep").string()) + " --exp 8 --frac 10"),
                         "cannot");
   // An existing directory that is not a report is never replaced.
   fs::create_directories(t.path() / "mine");
   write_file(t.path() / "mine" / "keep.txt", "precious");
-  expect_one_line_error(run("report --no-plots --out " + quote((t.path() / "mine").string()) + " --exp 8 --frac 10"),
+  expect_one_line_error(run("report --sections accuracy --no-plots --out " + quote((t.path() / "mine").string()) + " --exp 8 --frac 10"),
                         "not a rayunits report");
   EXPECT_EQ(read_file(t.path() / "mine" / "keep.txt"), "precious");
   // No python with matplotlib: a clear error and nothing left behind.
   fs::path out = t.path() / "rep";
-  expect_one_line_error(run("report --out " + quote(out.string()) + " --exp 8 --frac 10 --samples 100", "",
+  expect_one_line_error(run("report --sections accuracy --out " + quote(out.string()) + " --exp 8 --frac 10 --samples 100", "",
                             "RU_PYTHON=/nonexistent/python3"),
                         "matplotlib");
   EXPECT_FALSE(fs::exists(out));
   // A plot script that fails mid-run: error, and no report or temporary directory left.
   fs::create_directories(t.path() / "scripts");
   write_file(t.path() / "scripts" / "plot_accuracy.py", "import sys\nsys.exit(3)\n");
-  Proc f = run("report --quiet --out " + quote(out.string()) + " --exp 8 --frac 10 --samples 100", "",
+  Proc f = run("report --sections accuracy --quiet --out " + quote(out.string()) + " --exp 8 --frac 10 --samples 100", "",
               "RU_SCRIPTS_DIR=" + quote((t.path() / "scripts").string()));
   EXPECT_NE(f.code, 0);
   EXPECT_NE(f.err.find("plot_accuracy.py failed"), std::string::npos) << f.err;
   EXPECT_FALSE(fs::exists(out));
   for (const auto& e : fs::directory_iterator(t.path()))
     EXPECT_EQ(e.path().filename().string().find(".rep."), std::string::npos) << e.path();
+}
+
+// The study sections run the project's commands in-process (tiny parameters here); their tables
+// come from the CSVs those commands wrote, and every command line is in index.md.
+TEST_F(Cli, ReportStudySections) {
+  TempDir t;
+  fs::path out = t.path() / "rep";
+  Proc r = run("report --quiet --no-plots --out " + quote(out.string()) +
+               " --sections accuracy,synthesis,intersection,noise --exp 5 --frac 10 --samples 200"
+               " --param synthesis.units=fp_add --param synthesis.formats=e5m10 --param synthesis.stages=0,1"
+               " --param synthesis.fpga=0 --param intersection.tri_pairs=256 --param intersection.box_pairs=2000"
+               " --param intersection.rays=400 --param intersection.watertight_formats=e5m10"
+               " --param intersection.synth=0 --param noise.size=64 --param noise.error_samples=2000"
+               " --param noise.range_samples=20000 --param noise.synth=0");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string idx = read_file(out / "index.md");
+  for (const char* f : {"synth/synth_sweep.csv", "synth.txt", "tri.txt", "box.csv", "watertight.csv",
+                        "watertight_e5m10_robust.txt", "noise/noise_summary.md", "noise.txt"})
+    EXPECT_TRUE(fs::exists(out / f)) << f;
+  // command lines relative to the report directory, reproducible with `cd REPORT && ...`
+  EXPECT_NE(idx.find("rayunits synth-sweep --out synth --units fp_add"), std::string::npos) << idx;
+  EXPECT_NE(idx.find("rayunits study box --synthetic 2000"), std::string::npos) << idx;
+  const std::string body = idx.substr(idx.find("## Contents"));  // after the report's own command line
+  EXPECT_EQ(body.find(t.path().string()), std::string::npos) << "absolute paths leaked into the sections";
+  EXPECT_EQ(count_lines(r.err), 1) << r.err;  // "report: done"; the commands' progress went to .log files
+  EXPECT_TRUE(fs::exists(out / "synth.log"));
+  // the synthesis table: two rows of fp_add e5m10, Stages 1 has registers
+  EXPECT_NE(idx.find("| fp_add | e5m10 | 0 |"), std::string::npos) << idx;
+  EXPECT_NE(idx.find("| fp_add | e5m10 | 1 |"), std::string::npos) << idx;
+  // speed and accuracy side by side: the accuracy section ran first in the same report
+  EXPECT_NE(idx.find("mean rel. error"), std::string::npos) << idx;
+  // watertightness rows for both algorithms
+  EXPECT_NE(idx.find("| e5m10 | robust |"), std::string::npos) << idx;
+  EXPECT_NE(idx.find("| e5m10 | mt |"), std::string::npos) << idx;
+  // a failing study stops the report with its own error line and leaves nothing behind
+  fs::path bad = t.path() / "bad";
+  expect_one_line_error(run("report --quiet --no-plots --out " + quote(bad.string()) +
+                            " --sections intersection --param intersection.tri_pairs=64 --param intersection.box_pairs=100"
+                            " --param intersection.watertight_formats=e99m1"),
+                        "study watertight");
+  EXPECT_FALSE(fs::exists(bad));
 }
 
 // ------------------------------------------------------------------------------ bench fp

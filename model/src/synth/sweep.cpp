@@ -320,7 +320,7 @@ int run_sweep(const SweepOptions& o, const std::function<void(const std::string&
         if (!l.empty()) last = l;
       throw SynthError("plot failed (" + script + "): " + last);
     }
-    progress("wrote " + png);
+    progress("wrote " + png + " and " + png.substr(0, png.size() - 4) + ".md");
   }
   return failed.load();
 }

@@ -145,6 +145,79 @@ std::vector<UnitSpec> make_units() {
     s.max_stages = max_stages_dot3;
     u.push_back(std::move(s));
   }
+  // The intersection units (issue 4): built from the FP units, one register placement over
+  // their chain of levels (rtl/ru_ray_tri_pkg.sv). Their Stages bound is the sum of the levels'
+  // FP-unit maxima (every level fully pipelined); the RTL accepts more (output registers).
+  {
+    UnitSpec s;
+    s.name = "ray_box";
+    s.top = "ru_ray_box";
+    s.summary = "ray-box slab test (Williams et al.), optional conservative directed rounding";
+    s.filelist = "ru_ray_box.f";
+    s.sources = {"ru_ray_box.sv"};
+    s.params = fp_params();
+    s.extra_params = {{"OptConservative", 0, 0, 1, "1: t_enter rounded down, t_exit up (never a false miss)"}};
+    s.ports = control_ports();
+    s.ports.push_back({"org_i", PortDir::In, PortRole::Data, three_fp_width, "ray origin {z, y, x}"});
+    s.ports.push_back({"rdir_i", PortDir::In, PortRole::Data, three_fp_width, "reciprocal direction {z, y, x}"});
+    s.ports.push_back(operand("tmin_i", "t_min"));
+    s.ports.push_back(operand("tmax_i", "t_max"));
+    s.ports.push_back({"bmin_i", PortDir::In, PortRole::Data, three_fp_width, "box minimum corner {z, y, x}"});
+    s.ports.push_back({"bmax_i", PortDir::In, PortRole::Data, three_fp_width, "box maximum corner {z, y, x}"});
+    s.ports.push_back({"out_valid_o", PortDir::Out, PortRole::Valid, bits(1),
+                       "result valid (in_valid_i delayed by the latency)"});
+    s.ports.push_back({"hit_o", PortDir::Out, PortRole::Data, bits(1), "the ray's [t_min, t_max] meets the box"});
+    s.ports.push_back({"t_enter_o", PortDir::Out, PortRole::Data, fp_width, "entry distance"});
+    s.ports.push_back({"t_exit_o", PortDir::Out, PortRole::Data, fp_width, "exit distance"});
+    // levels: add mul cmp cmp cmp
+    s.max_stages = [](const UnitConfig& c) {
+      return max_stages_add(c) + max_stages_mul(c) + 3 * max_stages_cmp(c);
+    };
+    u.push_back(std::move(s));
+  }
+  for (const bool robust : {true, false}) {
+    UnitSpec s;
+    s.name = robust ? "ray_tri_robust" : "ray_tri_mt";
+    s.top = "ru_" + s.name;
+    s.summary = robust ? "ray-triangle test from signed volumes (Kensler Fig. 3.6)"
+                       : "ray-triangle test, Moller-Trumbore (Kensler Eq. 3.2)";
+    s.filelist = s.top + ".f";
+    s.sources = {s.top + ".sv"};
+    s.params = fp_params();
+    if (robust) s.extra_params.push_back({"OptTieBreak", 0, 0, 1, "Fig. 3.6's zero-volume tie-break"});
+    s.extra_params.push_back({"OptEpsTest", 0, 0, 1, "miss when |V| < eps"});
+    s.extra_params.push_back({"EpsBits", 0, 0, INT64_MAX, "eps as a bit pattern of the format"});
+    s.extra_params.push_back({"OptVolOut", 0, 0, 1, "1: vol_o carries V, Va, V0..2 (else constant 0)"});
+    s.ports = control_ports();
+    for (const char* n : {"a_i", "d_i", "p0_i", "p1_i", "p2_i"})
+      s.ports.push_back({n, PortDir::In, PortRole::Data, three_fp_width,
+                         n[0] == 'a' ? "ray origin {z, y, x}" : n[0] == 'd' ? "ray direction {z, y, x}"
+                                                                           : "vertex {z, y, x}"});
+    s.ports.push_back(operand("tmin_i", "t_min"));
+    s.ports.push_back(operand("tmax_i", "t_max"));
+    s.ports.push_back({"out_valid_o", PortDir::Out, PortRole::Valid, bits(1),
+                       "result valid (in_valid_i delayed by the latency)"});
+    s.ports.push_back({"hit_o", PortDir::Out, PortRole::Data, bits(1), "hit inside (t_min, t_max)"});
+    s.ports.push_back({"why_o", PortDir::Out, PortRole::Data, bits(3), "0 hit, 1 sign of V0..V2, 2 tie-break, 3 |V| < eps, 4 t outside (t_min, t_max)"});
+    s.ports.push_back(operand("t_o", "distance t"));
+    s.ports.back().dir = PortDir::Out;
+    s.ports.push_back(operand("beta_o", "barycentric beta"));
+    s.ports.back().dir = PortDir::Out;
+    s.ports.push_back(operand("gamma_o", "barycentric gamma"));
+    s.ports.back().dir = PortDir::Out;
+    s.ports.push_back({"vol_o", PortDir::Out, PortRole::Data, [](const UnitConfig& c) { return 5 * c.fmt.width(); },
+                       "{V2, V1, V0, Va, V} (OptVolOut)"});
+    // robust levels: add mul add mul add add div cmp; MT: add mul add mul add add div mul add cmp
+    if (robust)
+      s.max_stages = [](const UnitConfig& c) {
+        return 5 * max_stages_add(c) + 2 * max_stages_mul(c) + max_stages_div(c) + max_stages_cmp(c);
+      };
+    else
+      s.max_stages = [](const UnitConfig& c) {
+        return 6 * max_stages_add(c) + 3 * max_stages_mul(c) + max_stages_div(c) + max_stages_cmp(c);
+      };
+    u.push_back(std::move(s));
+  }
   {
     // Kensler's gradient noise unit (fixed point, no floating-point format): an example of a
     // unit with its own parameters (--param FracBits=8 ...).

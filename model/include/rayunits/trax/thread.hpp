@@ -1,0 +1,225 @@
+// rayunits trax: the instruction set of the thread processors and the thread API a kernel is
+// written against.
+//
+// Representation (docs/TRAX.md): a thread processor (TP) runs one work item (a pixel) at a time.
+// When the timing model hands a TP its next item (the atomic increment), the kernel is executed
+// functionally for that item in ordinary C++ and every operation it performs is appended to an
+// instruction stream: op class, one destination register, source registers, byte address for
+// memory operations. Registers are virtual and single-assignment (a fresh number per result;
+// register 1 holds the work item number delivered by the atomic increment; 0 = none / an
+// immediate). The SystemC timing model (sim.hpp) then replays the stream in order, cycle by
+// cycle. Values never depend on timing (scene data is read-only, the frame buffer write-only),
+// so executing ahead of the timing is exact.
+//
+// TVal is the kernel's floating-point value: a value of the configured format (ru::num::Soft,
+// bit-accurate) plus the register holding it, or the scene-memory address it lives at (a value
+// of the scene data, loaded on first use by a LOAD). Its operators record one instruction each
+// and compute through the format model, so the renderer's shading code (render/tracer.hpp),
+// instantiated with TVal, is the kernel: no second copy of the shading.
+#pragma once
+#include <cstdint>
+#include <initializer_list>
+#include <unordered_map>
+#include <vector>
+
+#include "rayunits/num/fp.hpp"
+#include "rayunits/render/arith.hpp"
+#include "rayunits/trax/config.hpp"
+
+namespace ru::trax {
+
+enum class Op : uint8_t {
+  FAdd = 0, FMul, FDiv, FSqrt, FCmp, Conv, Int, Branch,  // functional units (Unit of the same order)
+  Box, Tri, Noise,
+  Load,        // scene data through L1/L2/DRAM (dst = value)
+  LoadLocal,   // per-thread local store (traversal stack)
+  StoreLocal,  // per-thread local store
+  Store,       // frame buffer: bypasses the caches (DRAM bandwidth only), no result
+  Atomic,      // chip-wide atomic increment (work distribution)
+  kCount
+};
+constexpr int kOps = static_cast<int>(Op::kCount);
+const char* op_name(Op op);
+// The functional unit of an op, or Unit::kCount for memory / atomic ops.
+inline Unit op_unit(Op op) {
+  switch (op) {
+    case Op::FAdd: return Unit::FpAdd;
+    case Op::FMul: return Unit::FpMul;
+    case Op::FDiv: return Unit::FpDiv;
+    case Op::FSqrt: return Unit::FpSqrt;
+    case Op::FCmp: return Unit::FpCmp;
+    case Op::Conv: return Unit::Conv;
+    case Op::Int: return Unit::Int;
+    case Op::Branch: return Unit::Branch;
+    case Op::Box: return Unit::Box;
+    case Op::Tri: return Unit::Tri;
+    case Op::Noise: return Unit::Noise;
+    default: return Unit::kCount;
+  }
+}
+
+struct Instr {
+  Op op;
+  uint8_t nsrc;
+  uint32_t dst;   // 0: no result
+  uint32_t src;   // index of the first source in Stream::srcs
+  uint64_t addr;  // byte address (Load, Store, LoadLocal, StoreLocal)
+};
+
+struct Stream {
+  std::vector<Instr> code;
+  std::vector<uint32_t> srcs;
+  uint32_t nregs = 2;     // registers used: 0 (none), 1 (work item), 2..nregs-1
+  uint32_t max_live = 0;  // most registers live at once (a lower bound on the register file)
+  void clear() {
+    code.clear();
+    srcs.clear();
+    nregs = 2;
+    max_live = 0;
+  }
+};
+
+// Records one work item's instruction stream. Kernels emit through the current Thread
+// (Thread::current(), set by Scope) or directly.
+class Thread {
+ public:
+  static constexpr uint32_t kItemReg = 1;
+
+  void begin(Stream* s) {
+    s_ = s;
+    s_->clear();
+    load_cache_.clear();
+  }
+  Stream& stream() { return *s_; }
+
+  // Appends one instruction; returns its destination register (0 when !has_dst). Source
+  // registers 0 (immediates) are dropped.
+  uint32_t emit(Op op, const uint32_t* src, int n, bool has_dst = true, uint64_t addr = 0) {
+    Instr in;
+    in.op = op;
+    in.src = static_cast<uint32_t>(s_->srcs.size());
+    uint8_t k = 0;
+    for (int i = 0; i < n; ++i)
+      if (src[i]) {
+        s_->srcs.push_back(src[i]);
+        ++k;
+      }
+    in.nsrc = k;
+    in.dst = has_dst ? s_->nregs++ : 0;
+    in.addr = addr;
+    s_->code.push_back(in);
+    return in.dst;
+  }
+  uint32_t emit(Op op, std::initializer_list<uint32_t> src, bool has_dst = true, uint64_t addr = 0) {
+    return emit(op, src.begin(), static_cast<int>(src.size()), has_dst, addr);
+  }
+  // A load of scene data at `addr` (address computed from register addr_reg, 0 = constant).
+  uint32_t load(uint64_t addr, uint32_t addr_reg = 0) { return emit(Op::Load, {addr_reg}, true, addr); }
+  // A load of a scene value used by the shading code: the first use in an item loads it, later
+  // uses read the same register (the compiler's load reuse; scene data is read-only).
+  uint32_t load_cached(uint64_t addr);
+
+  // Computes Stream::max_live. Call once after the item's last instruction.
+  void finish();
+
+  // The thread whose stream TVal operations record into (nullptr: compute only).
+  static Thread*& current() {
+    static thread_local Thread* t = nullptr;
+    return t;
+  }
+  class Scope {
+   public:
+    explicit Scope(Thread* t) : saved_(current()) { current() = t; }
+    ~Scope() { current() = saved_; }
+    Scope(const Scope&) = delete;
+    Scope& operator=(const Scope&) = delete;
+
+   private:
+    Thread* saved_;
+  };
+
+ private:
+  Stream* s_ = nullptr;
+  std::unordered_map<uint64_t, uint32_t> load_cache_;
+  std::vector<uint32_t> live_end_;
+};
+
+// ------------------------------------------------------------------ TVal
+struct TVal {
+  num::Soft v;
+  uint32_t reg = 0;   // register holding the value (0: none)
+  uint64_t addr = 0;  // scene-memory address of the value (0: an immediate when reg == 0)
+};
+
+namespace detail {
+inline uint32_t use(const TVal& a) {
+  if (a.reg) return a.reg;
+  if (a.addr) return Thread::current()->load_cached(a.addr);
+  return 0;
+}
+inline TVal result(Op op, num::Soft v, std::initializer_list<const TVal*> src) {
+  TVal r;
+  r.v = v;
+  if (Thread* t = Thread::current()) {
+    uint32_t s[4];
+    int n = 0;
+    for (const TVal* p : src) s[n++] = use(*p);
+    r.reg = t->emit(op, s, n);
+  }
+  return r;
+}
+inline bool compare(bool value, const TVal& a, const TVal& b) {
+  if (Thread* t = Thread::current()) {
+    const uint32_t p = t->emit(Op::FCmp, {use(a), use(b)});
+    t->emit(Op::Branch, {p}, false);
+  }
+  return value;
+}
+}  // namespace detail
+
+inline TVal operator+(const TVal& a, const TVal& b) { return detail::result(Op::FAdd, a.v + b.v, {&a, &b}); }
+inline TVal operator-(const TVal& a, const TVal& b) { return detail::result(Op::FAdd, a.v - b.v, {&a, &b}); }
+inline TVal operator*(const TVal& a, const TVal& b) { return detail::result(Op::FMul, a.v * b.v, {&a, &b}); }
+inline TVal operator/(const TVal& a, const TVal& b) { return detail::result(Op::FDiv, a.v / b.v, {&a, &b}); }
+inline TVal operator-(const TVal& a) { return detail::result(Op::Int, -a.v, {&a}); }  // sign flip
+// A comparison whose result is only branched on: compare + branch.
+inline bool operator<(const TVal& a, const TVal& b) { return detail::compare(a.v < b.v, a, b); }
+inline bool operator<=(const TVal& a, const TVal& b) { return detail::compare(a.v <= b.v, a, b); }
+inline bool operator>(const TVal& a, const TVal& b) { return detail::compare(a.v > b.v, a, b); }
+inline bool operator>=(const TVal& a, const TVal& b) { return detail::compare(a.v >= b.v, a, b); }
+inline bool operator==(const TVal& a, const TVal& b) { return detail::compare(a.v == b.v, a, b); }
+inline bool operator!=(const TVal& a, const TVal& b) { return detail::compare(a.v != b.v, a, b); }
+
+// The arithmetic vocabulary of the golden models and the renderer (found by ADL).
+inline uint64_t fp_bits(const TVal& x) { return x.v.bits; }
+inline bool fp_isnan(const TVal& x) { return num::fp_isnan(x.v); }
+inline double fp_to_double(const TVal& x) { return x.v.to_double(); }
+inline TVal fp_canon(const TVal& x) { return x; }
+inline TVal fp_abs(const TVal& x) { return detail::result(Op::Int, num::fp_abs(x.v), {&x}); }  // clear sign bit
+inline TVal fp_min(const TVal& a, const TVal& b) { return detail::result(Op::FCmp, num::fp_min(a.v, b.v), {&a, &b}); }
+inline TVal fp_max(const TVal& a, const TVal& b) { return detail::result(Op::FCmp, num::fp_max(a.v, b.v), {&a, &b}); }
+inline TVal fp_sqrt(const TVal& x) { return detail::result(Op::FSqrt, render::fp_sqrt(x.v), {&x}); }
+// floor = float->int (toward -inf) and int->float: two conversions, as render::fp_floor(Soft).
+inline TVal fp_floor(const TVal& x) {
+  const TVal i = detail::result(Op::Conv, x.v, {&x});
+  return detail::result(Op::Conv, render::fp_floor(x.v), {&i});
+}
+
+}  // namespace ru::trax
+
+namespace ru::num {
+template <>
+inline Format fp_format<ru::trax::TVal>() { return soft_format(); }
+template <>
+inline ru::trax::TVal fp_from_bits<ru::trax::TVal>(uint64_t b) {
+  ru::trax::TVal t;
+  t.v = Soft::from_bits(b);
+  return t;
+}
+template <>
+inline ru::trax::TVal fp_cast<ru::trax::TVal>(double x) {  // an immediate
+  ru::trax::TVal t;
+  t.v = Soft::from_double(x);
+  return t;
+}
+}  // namespace ru::num

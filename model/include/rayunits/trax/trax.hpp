@@ -1,0 +1,58 @@
+// rayunits trax: runs the renderer's ray tracer (render/tracer.hpp) as the kernel of a TRaX-style
+// processor model and reports image, cycles, utilisation, stalls, caches, bandwidth and area.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "rayunits/render/render.hpp"
+#include "rayunits/scene/scene.hpp"
+#include "rayunits/trax/config.hpp"
+#include "rayunits/trax/sim.hpp"
+
+namespace ru::trax {
+
+struct AreaItem {
+  std::string name;
+  double count = 0;  // instances on the chip
+  double each = 0;   // NAND2-eq per instance
+  double total() const { return count * each; }
+};
+struct Area {
+  std::vector<AreaItem> items;
+  double total = 0, units = 0, memories = 0;
+};
+// Functional units with at least one issued operation x count x TMs, plus register files,
+// local stores, L1s and the L2 (docs/TRAX.md "Area model").
+Area area_estimate(const Config& c, const SimStats& st);
+
+struct TraxResult {
+  Config cfg;
+  render::Image image;
+  SimStats sim;
+  uint64_t primary_rays = 0, shadow_rays = 0, box_tests = 0, tri_tests = 0, noise_evals = 0;
+  uint64_t node_visits = 0;   // nodes whose children / triangles were examined
+  uint64_t up_steps = 0;      // stackless: moves to a parent
+  uint32_t max_stack = 0;     // stack: deepest stack (entries of 8 bytes in the local store)
+  size_t bvh_nodes = 0;
+  int bvh_depth = 0;
+  Area area;
+  uint64_t rays() const { return primary_rays + shadow_rays; }
+  double seconds() const { return double(sim.cycles) / (cfg.clock_mhz * 1e6); }
+  double rays_per_second() const { return sim.cycles ? double(rays()) / seconds() : 0.0; }
+};
+
+// The render options the kernel uses for a configuration (what `rayunits render` must be given
+// to produce the same image: format, tri, box, bvh, leaf, noise; shadows on).
+render::RenderOptions render_options(const Config& c, int width, int height);
+
+// Throws ConfigError / ru::num::FormatError / std::invalid_argument on bad input.
+TraxResult run_trax(const scene::Scene& s, const Config& c, int width, int height, bool progress = false);
+
+// summary.json / summary.md contents.
+std::string summary_json(const TraxResult& r, const std::string& scene_name, const std::string& command);
+std::string summary_md(const TraxResult& r, const std::string& scene_name, const std::string& command);
+// The last stdout line: "cycles=C rays=R rays_per_s=X (at F MHz) area=A".
+std::string summary_line(const TraxResult& r);
+
+}  // namespace ru::trax

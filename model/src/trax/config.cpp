@@ -1,0 +1,282 @@
+// TRaX model configuration: defaults, TOML reading with one-line errors naming the key.
+#include "rayunits/trax/config.hpp"
+
+#include <toml++/toml.h>
+
+#include <cmath>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <sstream>
+#include <vector>
+
+#include "rayunits/num/format.hpp"
+
+namespace ru::trax {
+
+namespace {
+const char* const kUnitNames[kUnits] = {"fp_add", "fp_mul", "fp_div", "fp_sqrt", "fp_cmp", "conv",
+                                        "int",    "branch", "box",    "tri",     "noise"};
+
+std::string fmt_num(double v) {
+  std::ostringstream o;
+  o.precision(12);
+  o << v;
+  return o.str();
+}
+
+bool pow2(long long v) { return v > 0 && (v & (v - 1)) == 0; }
+
+struct Reader {
+  std::string src;
+  [[noreturn]] void fail(const std::string& key, const std::string& msg) const {
+    throw ConfigError("trax config " + src + ": key '" + key + "': " + msg);
+  }
+  long long integer(const toml::node& n, const std::string& key, long long lo, long long hi) const {
+    const auto v = n.value_exact<int64_t>();
+    if (!v) fail(key, "must be an integer in " + std::to_string(lo) + ".." + std::to_string(hi));
+    if (*v < lo || *v > hi)
+      fail(key, "must be in " + std::to_string(lo) + ".." + std::to_string(hi) + " (got " + std::to_string(*v) + ")");
+    return *v;
+  }
+  double number(const toml::node& n, const std::string& key, double lo, double hi) const {
+    std::optional<double> v;
+    if (auto i = n.value_exact<int64_t>()) v = static_cast<double>(*i);
+    if (auto d = n.value_exact<double>()) v = *d;
+    if (!v || !std::isfinite(*v)) fail(key, "must be a number in " + fmt_num(lo) + ".." + fmt_num(hi));
+    if (*v < lo || *v > hi) fail(key, "must be in " + fmt_num(lo) + ".." + fmt_num(hi) + " (got " + fmt_num(*v) + ")");
+    return *v;
+  }
+  std::string choice(const toml::node& n, const std::string& key, const std::vector<std::string>& allowed) const {
+    const auto v = n.value_exact<std::string>();
+    std::string list;
+    for (const auto& a : allowed) list += (list.empty() ? "" : ", ") + a;
+    if (!v) fail(key, "must be a string (accepted: " + list + ")");
+    for (const auto& a : allowed)
+      if (*v == a) return *v;
+    fail(key, "unknown value '" + *v + "' (accepted: " + list + ")");
+  }
+  const toml::table& table(const toml::node& n, const std::string& key) const {
+    const toml::table* t = n.as_table();
+    if (!t) fail(key, "must be a table ([" + key + "])");
+    return *t;
+  }
+};
+
+void read_cache(const Reader& R, const toml::table& t, const std::string& sec, CacheCfg& c) {
+  for (const auto& [k, v] : t) {
+    const std::string key = sec + "." + std::string(k.str());
+    if (k == "size") c.size = static_cast<uint64_t>(R.integer(v, key, 64, 1ll << 32));
+    else if (k == "banks") c.banks = static_cast<int>(R.integer(v, key, 1, 1024));
+    else if (k == "line") c.line = static_cast<int>(R.integer(v, key, 4, 4096));
+    else if (k == "latency") c.latency = static_cast<int>(R.integer(v, key, 1, 100000));
+    else if (k == "ways") c.ways = static_cast<int>(R.integer(v, key, 1, 1024));
+    else R.fail(key, "unknown key (accepted in [" + sec + "]: size, banks, line, latency, ways)");
+  }
+}
+
+void check_cache(const Reader& R, const CacheCfg& c, const std::string& sec) {
+  if (!pow2(c.banks)) R.fail(sec + ".banks", "must be a power of two (got " + std::to_string(c.banks) + ")");
+  if (!pow2(c.line)) R.fail(sec + ".line", "must be a power of two (got " + std::to_string(c.line) + ")");
+  if (!pow2(c.ways)) R.fail(sec + ".ways", "must be a power of two (got " + std::to_string(c.ways) + ")");
+  const uint64_t set_bytes = static_cast<uint64_t>(c.line) * c.ways;
+  if (c.size % set_bytes != 0 || !pow2(static_cast<long long>(c.size / set_bytes)))
+    R.fail(sec + ".size", "must be line x ways x (a power of two) bytes (got " + std::to_string(c.size) + ")");
+}
+}  // namespace
+
+const char* unit_name(Unit u) { return kUnitNames[static_cast<int>(u)]; }
+std::string unit_names() {
+  std::string s;
+  for (int i = 0; i < kUnits; ++i) s += (i ? ", " : "") + std::string(kUnitNames[i]);
+  return s;
+}
+
+int Config::value_bytes() const {
+  const std::string f = format == "float" ? "e8m23" : format;
+  const num::Format F = num::Format::parse(f);
+  return 1 + F.exp_bits + F.frac_bits <= 32 ? 4 : 8;
+}
+
+Config default_config() {
+  Config c;
+  // latency, count per TM, width, area (NAND2-eq; docs/TRAX.md "Area model" says where each
+  // number comes from: measured in this project's Yosys flow, or composed from measured parts)
+  c.unit(Unit::FpAdd) = {2, 4, 1, 3988};    // fp_add e8m23 Stages 3, measured (README)
+  c.unit(Unit::FpMul) = {2, 4, 1, 9619};    // fp_mul e8m23 Stages 3, measured (README)
+  c.unit(Unit::FpDiv) = {16, 1, 1, 19238};  // estimate: 2 x fp_mul
+  c.unit(Unit::FpSqrt) = {16, 1, 1, 19238}; // estimate: 2 x fp_mul
+  c.unit(Unit::FpCmp) = {1, 4, 1, 1000};    // estimate: a 32-bit magnitude comparator + muxes
+  c.unit(Unit::Conv) = {1, 2, 1, 1500};     // estimate: shifter + rounding
+  c.unit(Unit::Int) = {1, 8, 1, 500};       // estimate: 32-bit adder + logic
+  c.unit(Unit::Branch) = {1, 8, 1, 200};    // estimate
+  c.unit(Unit::Box) = {8, 2, 1, 87642};     // composed: 6 x (fp_add + fp_mul + fp_cmp)
+  c.unit(Unit::Tri) = {24, 1, 1, 604339};   // composed (robust): 43 fp_add + 39 fp_mul + 3 fp_div
+  c.unit(Unit::Noise) = {4, 1, 1, 63529};   // noise Stages 4, measured (docs/NOISE.md)
+  return c;
+}
+
+void Config::validate(const std::string& source) const {
+  Reader R{source};
+  if (tms < 1 || tms > 4096) R.fail("chip.tms", "must be in 1..4096");
+  if (tps_per_tm < 1 || tps_per_tm > 4096) R.fail("chip.tps_per_tm", "must be in 1..4096");
+  if (!(clock_mhz > 0)) R.fail("chip.clock_mhz", "must be > 0");
+  if (format != "float") {
+    try {
+      num::Format::parse(format).validate();
+    } catch (const std::exception& e) {
+      R.fail("chip.format", e.what());
+    }
+  }
+  for (int i = 0; i < kUnits; ++i) {
+    const UnitCfg& u = units[i];
+    const std::string k = std::string("units.") + kUnitNames[i];
+    if (u.latency < 1) R.fail(k + ".latency", "must be >= 1");
+    if (u.count < 1) R.fail(k + ".count", "must be >= 1");
+    if (u.width < 1) R.fail(k + ".width", "must be >= 1");
+    if (u.area < 0) R.fail(k + ".area", "must be >= 0");
+  }
+  check_cache(R, l1, "l1");
+  check_cache(R, l2, "l2");
+  if (l2.line < l1.line) R.fail("l2.line", "must be >= l1.line");
+  if (!(dram_bytes_per_cycle > 0)) R.fail("dram.bytes_per_cycle", "must be > 0");
+}
+
+Config parse_config(const std::string& text, const std::string& source, const Config& base) {
+  Reader R{source};
+  toml::table root;
+  try {
+    root = toml::parse(text, source);
+  } catch (const toml::parse_error& e) {
+    std::ostringstream o;
+    o << "trax config " << source << ": line " << e.source().begin.line << ": " << e.description();
+    throw ConfigError(o.str());
+  }
+  Config c = base;
+  for (const auto& [sk, sv] : root) {
+    const std::string sec(sk.str());
+    if (sec == "chip") {
+      for (const auto& [k, v] : R.table(sv, sec)) {
+        const std::string key = sec + "." + std::string(k.str());
+        if (k == "tms") c.tms = static_cast<int>(R.integer(v, key, 1, 4096));
+        else if (k == "tps_per_tm") c.tps_per_tm = static_cast<int>(R.integer(v, key, 1, 4096));
+        else if (k == "clock_mhz") c.clock_mhz = R.number(v, key, 1e-3, 1e6);
+        else if (k == "format") {
+          const auto s = v.value_exact<std::string>();
+          if (!s) R.fail(key, "must be a string (float or eXmY[-ftz])");
+          c.format = *s;
+          if (c.format != "float") {
+            try {
+              num::Format::parse(c.format).validate();
+            } catch (const std::exception& e) {
+              R.fail(key, e.what());
+            }
+          }
+        } else if (k == "tri") c.tri = R.choice(v, key, {"robust", "mt"});
+        else if (k == "box") c.box = R.choice(v, key, {"plain", "conservative"});
+        else if (k == "noise") c.noise = R.choice(v, key, {"fixed", "float"});
+        else if (k == "traversal") c.traversal = R.choice(v, key, {"stack", "stackless"});
+        else if (k == "bvh") c.bvh = R.choice(v, key, {"sah", "median"});
+        else if (k == "leaf_size") c.leaf_size = static_cast<int>(R.integer(v, key, 1, 64));
+        else if (k == "registers_per_thread") c.registers_per_thread = static_cast<int>(R.integer(v, key, 1, 65536));
+        else if (k == "local_store_bytes") c.local_store_bytes = static_cast<int>(R.integer(v, key, 0, 1 << 24));
+        else if (k == "framebuffer_bytes_per_pixel")
+          c.framebuffer_bytes_per_pixel = static_cast<int>(R.integer(v, key, 1, 64));
+        else
+          R.fail(key, "unknown key (accepted in [chip]: tms, tps_per_tm, clock_mhz, format, tri, box, noise, "
+                      "traversal, bvh, leaf_size, registers_per_thread, local_store_bytes, "
+                      "framebuffer_bytes_per_pixel)");
+      }
+    } else if (sec == "units") {
+      for (const auto& [uk, uv] : R.table(sv, sec)) {
+        const std::string uname(uk.str());
+        int idx = -1;
+        for (int i = 0; i < kUnits; ++i)
+          if (uname == kUnitNames[i]) idx = i;
+        if (idx < 0) R.fail("units." + uname, "unknown unit (units: " + unit_names() + ")");
+        UnitCfg& u = c.units[idx];
+        for (const auto& [k, v] : R.table(uv, "units." + uname)) {
+          const std::string key = "units." + uname + "." + std::string(k.str());
+          if (k == "latency") u.latency = static_cast<int>(R.integer(v, key, 1, 100000));
+          else if (k == "count") u.count = static_cast<int>(R.integer(v, key, 1, 4096));
+          else if (k == "width") u.width = static_cast<int>(R.integer(v, key, 1, 4096));
+          else if (k == "area") u.area = R.number(v, key, 0, 1e12);
+          else R.fail(key, "unknown key (accepted: latency, count, width, area)");
+        }
+      }
+    } else if (sec == "atomic") {
+      for (const auto& [k, v] : R.table(sv, sec)) {
+        const std::string key = sec + "." + std::string(k.str());
+        if (k == "latency") c.atomic_latency = static_cast<int>(R.integer(v, key, 1, 100000));
+        else R.fail(key, "unknown key (accepted in [atomic]: latency)");
+      }
+    } else if (sec == "local_store") {
+      for (const auto& [k, v] : R.table(sv, sec)) {
+        const std::string key = sec + "." + std::string(k.str());
+        if (k == "latency") c.local_store_latency = static_cast<int>(R.integer(v, key, 1, 100000));
+        else R.fail(key, "unknown key (accepted in [local_store]: latency)");
+      }
+    } else if (sec == "l1") {
+      read_cache(R, R.table(sv, sec), sec, c.l1);
+    } else if (sec == "l2") {
+      read_cache(R, R.table(sv, sec), sec, c.l2);
+    } else if (sec == "dram") {
+      for (const auto& [k, v] : R.table(sv, sec)) {
+        const std::string key = sec + "." + std::string(k.str());
+        if (k == "latency") c.dram_latency = static_cast<int>(R.integer(v, key, 1, 1000000));
+        else if (k == "bytes_per_cycle") c.dram_bytes_per_cycle = R.number(v, key, 1e-3, 1e6);
+        else R.fail(key, "unknown key (accepted in [dram]: latency, bytes_per_cycle)");
+      }
+    } else if (sec == "area") {
+      for (const auto& [k, v] : R.table(sv, sec)) {
+        const std::string key = sec + "." + std::string(k.str());
+        if (k == "sram_bit") c.sram_bit = R.number(v, key, 0, 1e6);
+        else if (k == "regfile_bit") c.regfile_bit = R.number(v, key, 0, 1e6);
+        else R.fail(key, "unknown key (accepted in [area]: sram_bit, regfile_bit)");
+      }
+    } else {
+      R.fail(sec, "unknown section (accepted: chip, units, atomic, local_store, l1, l2, dram, area)");
+    }
+  }
+  c.validate(source);
+  return c;
+}
+
+Config load_config(const std::string& path, const Config& base) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ConfigError("trax config " + path + ": cannot open the file");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return parse_config(ss.str(), path, base);
+}
+
+std::string to_toml(const Config& c) {
+  std::ostringstream o;
+  o.precision(17);
+  o << "[chip]\n"
+    << "tms = " << c.tms << "\ntps_per_tm = " << c.tps_per_tm << "\nclock_mhz = " << fmt_num(c.clock_mhz)
+    << (std::floor(c.clock_mhz) == c.clock_mhz ? ".0" : "") << "\nformat = \"" << c.format << "\"\ntri = \""
+    << c.tri << "\"\nbox = \"" << c.box << "\"\nnoise = \"" << c.noise << "\"\ntraversal = \"" << c.traversal
+    << "\"\nbvh = \"" << c.bvh << "\"\nleaf_size = " << c.leaf_size
+    << "\nregisters_per_thread = " << c.registers_per_thread << "\nlocal_store_bytes = " << c.local_store_bytes
+    << "\nframebuffer_bytes_per_pixel = " << c.framebuffer_bytes_per_pixel << "\n";
+  for (int i = 0; i < kUnits; ++i) {
+    const UnitCfg& u = c.units[i];
+    o << "\n[units." << kUnitNames[i] << "]\nlatency = " << u.latency << "\ncount = " << u.count
+      << "\nwidth = " << u.width << "\narea = " << fmt_num(u.area) << (std::floor(u.area) == u.area ? ".0" : "")
+      << "\n";
+  }
+  o << "\n[atomic]\nlatency = " << c.atomic_latency << "\n\n[local_store]\nlatency = " << c.local_store_latency << "\n";
+  for (const auto* p : {&c.l1, &c.l2}) {
+    o << "\n[" << (p == &c.l1 ? "l1" : "l2") << "]\nsize = " << p->size << "\nbanks = " << p->banks
+      << "\nline = " << p->line << "\nlatency = " << p->latency << "\nways = " << p->ways << "\n";
+  }
+  o << "\n[dram]\nlatency = " << c.dram_latency << "\nbytes_per_cycle = " << fmt_num(c.dram_bytes_per_cycle)
+    << (std::floor(c.dram_bytes_per_cycle) == c.dram_bytes_per_cycle ? ".0" : "") << "\n";
+  o << "\n[area]\nsram_bit = " << fmt_num(c.sram_bit) << (std::floor(c.sram_bit) == c.sram_bit ? ".0" : "")
+    << "\nregfile_bit = " << fmt_num(c.regfile_bit) << (std::floor(c.regfile_bit) == c.regfile_bit ? ".0" : "")
+    << "\n";
+  return o.str();
+}
+
+}  // namespace ru::trax

@@ -1,0 +1,465 @@
+// The ray-tracing kernel of the TRaX model: the renderer's own Tracer (render/tracer.hpp)
+// instantiated with the recording type TVal; its traversal is replaced (KernelHooks) by the
+// processor's traversal below, which issues the ray-box and ray-triangle units as single
+// instructions and models node loads, branches and the stack in the local store.
+#include <algorithm>
+#include <stdexcept>
+
+#include "rayunits/render/tracer.hpp"
+#include "rayunits/trax/thread.hpp"
+#include "rayunits/trax/trax.hpp"
+
+namespace ru::trax {
+using render::kernel::NodeT;
+using render::kernel::Prepared;
+using render::kernel::Tracer;
+using units::Vec3;
+using Ray = Tracer<TVal>::Ray;
+int64_t traverse(Tracer<TVal>& tr, const Ray& r, const TVal& tmin, TVal& tmax, bool any);
+}  // namespace ru::trax
+
+namespace ru::render::kernel {
+template <>
+struct KernelHooks<ru::trax::TVal> {
+  static constexpr bool enabled = true;
+  static int64_t intersect(Tracer<trax::TVal>& tr, const trax::Ray& r, const trax::TVal& tmin, trax::TVal& tmax,
+                           bool any) {
+    return trax::traverse(tr, r, tmin, tmax, any);
+  }
+  // One NOISE instruction on the texture coordinate (the value is the renderer's).
+  static void noise(const Vec3<trax::TVal>& q, trax::TVal& res) {
+    if (trax::Thread* t = trax::Thread::current())
+      res.reg = t->emit(trax::Op::Noise, {trax::detail::use(q.x), trax::detail::use(q.y), trax::detail::use(q.z)});
+  }
+};
+}  // namespace ru::render::kernel
+
+namespace ru::trax {
+namespace {
+
+using num::Soft;
+
+// Scene memory layout (byte addresses; W = bytes per value).
+//   node i: lo.xyz, hi.xyz (6W), header (8 B: left/right or first/count, axis), parent (8 B)
+//   triangle i: p0, p1, p2 (9W) in leaf order; material j: c1, c2, freq (7W, stride 8W)
+//   camera/light: eye, c, u, v, light (15W); frame buffer: bytes_per_pixel per pixel
+struct Layout {
+  uint64_t W = 4, node_base = 0x1000000, node_bytes = 48, tri_base = 0, tri_bytes = 36, mat_base = 0,
+           cam_base = 0, fb_base = 0x80000000ull;
+  uint64_t node(int64_t i) const { return node_base + static_cast<uint64_t>(i) * node_bytes; }
+  uint64_t header(int64_t i) const { return node(i) + 6 * W; }
+  uint64_t parent(int64_t i) const { return node(i) + 6 * W + 8; }
+  uint64_t tri(int64_t i) const { return tri_base + static_cast<uint64_t>(i) * tri_bytes; }
+};
+
+uint64_t align(uint64_t x, uint64_t a) { return (x + a - 1) / a * a; }
+
+struct Ctx {
+  const Config* cfg = nullptr;
+  Layout L;
+  bool stackless = false;
+  std::vector<int32_t> parent;
+  struct Entry {
+    int32_t node;
+    TVal t;
+  };
+  std::vector<Entry> stack;
+  uint64_t visits = 0, up_steps = 0;
+  uint32_t max_stack = 0;
+};
+Ctx* g_ctx = nullptr;  // the running kernel (one simulation at a time per process)
+
+Thread& th() { return *Thread::current(); }
+uint32_t use(const TVal& v) { return detail::use(v); }
+Vec3<Soft> soft(const Vec3<TVal>& v) { return {v.x.v, v.y.v, v.z.v}; }
+
+// BOX: 6 loads of the node's box (address from addr_reg), one ray-box instruction, a branch.
+bool box(Tracer<TVal>& tr, const Ray& r, int32_t node, uint32_t addr_reg, const TVal& tmin, const TVal& tmax,
+         TVal* te) {
+  const Ctx& C = *g_ctx;
+  ++tr.cnt.box;
+  const NodeT<TVal>& n = tr.P.nodes[node];
+  uint32_t s[14];
+  for (int k = 0; k < 3; ++k) {
+    s[k] = use(r.o[k]);
+    s[3 + k] = use(r.inv[k]);
+  }
+  for (int k = 0; k < 6; ++k) s[6 + k] = th().load(C.L.node(node) + k * C.L.W, addr_reg);
+  s[12] = use(tmin);
+  s[13] = use(tmax);
+  const auto res = units::ray_box(soft(r.o), soft(r.inv), soft(n.lo), soft(n.hi), tmin.v, tmax.v, tr.opt.box);
+  const uint32_t reg = th().emit(Op::Box, s, 14);
+  th().emit(Op::Branch, {reg}, false);
+  te->v = res.t_enter;
+  te->reg = reg;
+  te->addr = 0;
+  return res.hit;
+}
+
+// TRI: 9 loads of the vertices, one ray-triangle instruction, a branch.
+bool tri(Tracer<TVal>& tr, const Ray& r, uint32_t i, uint32_t addr_reg, const TVal& tmin, const TVal& tmax,
+         TVal* t) {
+  const Ctx& C = *g_ctx;
+  ++tr.cnt.tri;
+  const auto& T = tr.P.tris[i];
+  uint32_t s[17];
+  for (int k = 0; k < 3; ++k) {
+    s[k] = use(r.o[k]);
+    s[3 + k] = use(r.d[k]);
+  }
+  for (int k = 0; k < 9; ++k) s[6 + k] = th().load(C.L.tri(i) + k * C.L.W, addr_reg);
+  s[15] = use(tmin);
+  s[16] = use(tmax);
+  bool hit;
+  Soft th_;
+  if (tr.opt.tri == render::TriAlgo::Robust) {
+    const auto res = units::ray_tri_robust(soft(r.o), soft(r.d), soft(T.p0), soft(T.p1), soft(T.p2), tmin.v, tmax.v);
+    hit = res.hit;
+    th_ = res.t;
+  } else {
+    const auto res = units::ray_tri_mt(soft(r.o), soft(r.d), soft(T.p0), soft(T.p1), soft(T.p2), tmin.v, tmax.v);
+    hit = res.hit;
+    th_ = res.t;
+  }
+  const uint32_t reg = th().emit(Op::Tri, s, 17);
+  th().emit(Op::Branch, {reg}, false);
+  t->v = th_;
+  t->reg = reg;
+  t->addr = 0;
+  return hit;
+}
+
+// Leaf: every triangle (loop counter, TRI, branch); closest hit updates tmax (any: first hit).
+// Returns true when an any-hit query is answered.
+bool leaf(Tracer<TVal>& tr, const Ray& r, const NodeT<TVal>& n, uint32_t hdr, const TVal& tmin, TVal& tmax,
+          bool any, int64_t& hit, uint32_t& hit_reg) {
+  uint32_t ireg = hdr;
+  for (uint32_t i = n.first; i < n.first + n.count; ++i) {
+    TVal t;
+    const bool h = tri(tr, r, i, ireg, tmin, tmax, &t);
+    if (h) {
+      tmax = t;
+      hit = i;
+      hit_reg = th().emit(Op::Int, {ireg});
+      if (any) return true;
+    }
+    ireg = th().emit(Op::Int, {ireg});  // next triangle
+    th().emit(Op::Branch, {ireg}, false);
+  }
+  return false;
+}
+
+// The renderer's traversal (Tracer::intersect_impl), step for step, on the processor: a stack
+// of (node, t_enter) entries in the local store.
+int64_t traverse_stack(Tracer<TVal>& tr, const Ray& r, const TVal& tmin, TVal& tmax, bool any) {
+  Ctx& C = *g_ctx;
+  const auto& P = tr.P;
+  int64_t hit = -1;
+  uint32_t hit_reg = 0;
+  size_t sp = 0;
+  uint32_t sp_reg = 0;
+  auto push = [&](int32_t node, const TVal& t, uint32_t node_reg) {
+    if (C.stack.size() <= sp) C.stack.resize(sp + 1);
+    C.stack[sp] = {node, t};
+    th().emit(Op::StoreLocal, {t.reg, node_reg, sp_reg}, false, 8 * sp);
+    sp_reg = th().emit(Op::Int, {sp_reg});
+    ++sp;
+    C.max_stack = std::max<uint32_t>(C.max_stack, static_cast<uint32_t>(sp));
+  };
+  TVal te;
+  if (!box(tr, r, P.root, 0, tmin, tmax, &te)) return -1;
+  push(P.root, te, 0);
+  while (sp) {
+    th().emit(Op::Branch, {sp_reg}, false);
+    --sp;
+    sp_reg = th().emit(Op::Int, {sp_reg});
+    const Ctx::Entry e = C.stack[sp];
+    const uint32_t e_reg = th().emit(Op::LoadLocal, {sp_reg}, true, 8 * sp);
+    TVal et = e.t;
+    et.reg = e_reg;
+    if (hit >= 0) {
+      th().emit(Op::Branch, {hit_reg}, false);
+      if (tmax < et) continue;  // FCMP + branch
+    }
+    ++C.visits;
+    const NodeT<TVal>& n = P.nodes[e.node];
+    const uint32_t hdr = th().load(C.L.header(e.node), e_reg);
+    th().emit(Op::Branch, {hdr}, false);  // leaf?
+    if (n.left < 0) {
+      if (leaf(tr, r, n, hdr, tmin, tmax, any, hit, hit_reg)) return hit;
+      continue;
+    }
+    const uint32_t al = th().emit(Op::Int, {hdr}), ar = th().emit(Op::Int, {hdr});
+    TVal tl, trr;
+    const bool hl = box(tr, r, n.left, al, tmin, tmax, &tl);
+    const bool hr = box(tr, r, n.right, ar, tmin, tmax, &trr);
+    if (hl && hr) {
+      const uint32_t sgn = th().emit(Op::Int, {hdr, use(r.d.x), use(r.d.y), use(r.d.z)});  // sign of d[axis]
+      th().emit(Op::Branch, {sgn}, false);
+      if (num::fp_signbit(r.d[n.axis].v)) {
+        push(n.left, tl, al);
+        push(n.right, trr, ar);
+      } else {
+        push(n.right, trr, ar);
+        push(n.left, tl, al);
+      }
+    } else if (hl) {
+      push(n.left, tl, al);
+    } else if (hr) {
+      push(n.right, trr, ar);
+    }
+  }
+  return hit;
+}
+
+// Stackless bit-trail traversal (seed 003, SLBVH §1.4.2, on a pointer BVH with parent links):
+// one trail bit per level, 1 = nothing left to visit on this level. Going down to the near
+// child of two hit children leaves the bit 0; with one hit child it is set. Backtracking walks
+// up (a parent-pointer load per step) while the bit is 1, then sets it and continues at the
+// far sibling, whose box is tested again with the current tmax (that test fails exactly when
+// the stack traversal would skip the popped entry: tmax < t_enter, see docs/TRAX.md), so the
+// same triangles are tested in the same order as the renderer's traversal.
+int64_t traverse_stackless(Tracer<TVal>& tr, const Ray& r, const TVal& tmin, TVal& tmax, bool any) {
+  Ctx& C = *g_ctx;
+  const auto& P = tr.P;
+  int64_t hit = -1;
+  uint32_t hit_reg = 0;
+  TVal te;
+  if (!box(tr, r, P.root, 0, tmin, tmax, &te)) return -1;
+  int32_t node = P.root;
+  uint32_t node_reg = 0, trail_reg = 0, level_reg = 0;
+  int level = 0;
+  uint64_t trail = 0;
+  auto near_first = [&](const NodeT<TVal>& n) { return !num::fp_signbit(r.d[n.axis].v); };  // left is near
+  for (;;) {
+    ++C.visits;
+    const NodeT<TVal>& n = P.nodes[node];
+    const uint32_t hdr = th().load(C.L.header(node), node_reg);
+    th().emit(Op::Branch, {hdr}, false);  // leaf?
+    bool down = false;
+    if (n.left < 0) {
+      if (leaf(tr, r, n, hdr, tmin, tmax, any, hit, hit_reg)) return hit;
+    } else {
+      const uint32_t al = th().emit(Op::Int, {hdr}), ar = th().emit(Op::Int, {hdr});
+      TVal tl, trr;
+      const bool hl = box(tr, r, n.left, al, tmin, tmax, &tl);
+      const bool hr = box(tr, r, n.right, ar, tmin, tmax, &trr);
+      if (hl || hr) {
+        down = true;
+        ++level;
+        level_reg = th().emit(Op::Int, {level_reg});
+        if (hl && hr) {
+          const uint32_t sgn = th().emit(Op::Int, {hdr, use(r.d.x), use(r.d.y), use(r.d.z)});
+          th().emit(Op::Branch, {sgn}, false);
+          const bool left_near = near_first(n);
+          node = left_near ? n.left : n.right;
+          node_reg = left_near ? al : ar;
+        } else {
+          node = hl ? n.left : n.right;
+          node_reg = hl ? al : ar;
+          trail |= 1ull << level;
+          trail_reg = th().emit(Op::Int, {trail_reg, level_reg});
+        }
+      }
+    }
+    if (down) continue;
+    // Backtrack to the next far sibling whose box is still hit.
+    for (;;) {
+      for (;;) {  // climb while this level has nothing left
+        const uint32_t bit = th().emit(Op::Int, {trail_reg, level_reg});
+        th().emit(Op::Branch, {bit}, false);
+        if (level == 0) return hit;
+        if (!((trail >> level) & 1)) break;
+        trail &= ~(1ull << level);
+        trail_reg = th().emit(Op::Int, {trail_reg, level_reg});
+        node_reg = th().load(C.L.parent(node), node_reg);
+        node = C.parent[node];
+        --level;
+        level_reg = th().emit(Op::Int, {level_reg});
+        ++C.up_steps;
+      }
+      trail |= 1ull << level;
+      trail_reg = th().emit(Op::Int, {trail_reg, level_reg});
+      const int32_t par = C.parent[node];
+      const uint32_t par_reg = th().load(C.L.parent(node), node_reg);
+      const uint32_t phdr = th().load(C.L.header(par), par_reg);
+      const NodeT<TVal>& pn = P.nodes[par];
+      const int32_t sib = pn.left == node ? pn.right : pn.left;
+      const uint32_t sib_reg = th().emit(Op::Int, {phdr, node_reg});
+      node = sib;
+      node_reg = sib_reg;
+      if (box(tr, r, sib, sib_reg, tmin, tmax, &te)) break;  // else culled: its level is done
+    }
+  }
+}
+
+// The renderer's data in T = Soft, re-typed as TVal values tagged with their addresses.
+Prepared<TVal> tag(const Prepared<Soft>& S, const Layout& L) {
+  Prepared<TVal> P;
+  auto val = [](Soft v, uint64_t addr) {
+    TVal t;
+    t.v = v;
+    t.addr = addr;
+    return t;
+  };
+  auto vec = [&](const Vec3<Soft>& v, uint64_t addr) {
+    return Vec3<TVal>{val(v.x, addr), val(v.y, addr + L.W), val(v.z, addr + 2 * L.W)};
+  };
+  P.tris.resize(S.tris.size());
+  for (size_t i = 0; i < S.tris.size(); ++i) {
+    const uint64_t a = L.tri(static_cast<int64_t>(i));
+    P.tris[i] = {vec(S.tris[i].p0, a), vec(S.tris[i].p1, a + 3 * L.W), vec(S.tris[i].p2, a + 6 * L.W)};
+  }
+  P.tri_mat = S.tri_mat;
+  P.nodes.resize(S.nodes.size());
+  for (size_t i = 0; i < S.nodes.size(); ++i) {
+    const auto& s = S.nodes[i];
+    auto& n = P.nodes[i];
+    const uint64_t a = L.node(static_cast<int64_t>(i));
+    n.lo = vec(s.lo, a);
+    n.hi = vec(s.hi, a + 3 * L.W);
+    n.left = s.left;
+    n.right = s.right;
+    n.first = s.first;
+    n.count = s.count;
+    n.axis = s.axis;
+  }
+  P.root = S.root;
+  P.depth = S.depth;
+  for (size_t m = 0; m < S.mats.size(); ++m) {
+    const uint64_t a = L.mat_base + m * 8 * L.W;
+    P.mats.push_back({S.mats[m].kind, vec(S.mats[m].c1, a), vec(S.mats[m].c2, a + 3 * L.W), val(S.mats[m].freq, a + 6 * L.W)});
+  }
+  P.eye = vec(S.eye, L.cam_base);
+  P.c = vec(S.c, L.cam_base + 3 * L.W);
+  P.u = vec(S.u, L.cam_base + 6 * L.W);
+  P.v = vec(S.v, L.cam_base + 9 * L.W);
+  P.light = vec(S.light, L.cam_base + 12 * L.W);
+  // Scalar constants are immediates.
+  for (auto [dst, src] : {std::pair{&P.eps, &S.eps}, {&P.shadow_min, &S.shadow_min}, {&P.shadow_max, &S.shadow_max},
+                          {&P.ka, &S.ka}, {&P.kd, &S.kd}, {&P.zero, &S.zero}, {&P.one, &S.one}, {&P.half, &S.half},
+                          {&P.two, &S.two}})
+    *dst = val(*src, 0);
+  return P;
+}
+
+class RenderWork : public WorkSource {
+ public:
+  RenderWork(Tracer<TVal>& tr, const Layout& L, const Config& c, render::Image& img)
+      : tr_(tr), L_(L), cfg_(c), img_(img) {}
+  uint64_t items() const override { return static_cast<uint64_t>(img_.width) * img_.height; }
+  void generate(uint64_t item, Thread& t) override {
+    const int x = static_cast<int>(item % img_.width), y = static_cast<int>(item / img_.width);
+    // Pixel coordinates from the work item: y = item / W, x = item - y W, converted to float.
+    const uint32_t ry = t.emit(Op::Int, {Thread::kItemReg});
+    const uint32_t rx = t.emit(Op::Int, {Thread::kItemReg, ry});
+    TVal px, py;
+    px.v = Soft::from_double(x + 0.5);
+    py.v = Soft::from_double(y + 0.5);
+    px.reg = t.emit(Op::Conv, {rx});
+    py.reg = t.emit(Op::Conv, {ry});
+    const Vec3<TVal> d = tr_.primary_dir(px, py);
+    const Vec3<TVal> c = tr_.shade_pixel(d);
+    // Clamp to [0, 1] (max, min) and convert to 8 bits per channel; one frame-buffer store.
+    uint32_t ch[3];
+    float* out = img_.at(x, y);
+    for (int k = 0; k < 3; ++k) {
+      out[k] = render::kernel::pixel_value(c[k].v.to_double());
+      const uint32_t a = t.emit(Op::FCmp, {use(c[k])});
+      const uint32_t b = t.emit(Op::FCmp, {a});
+      ch[k] = t.emit(Op::Conv, {b});
+    }
+    t.emit(Op::Store, {ch[0], ch[1], ch[2]}, false, L_.fb_base + item * cfg_.framebuffer_bytes_per_pixel);
+  }
+
+ private:
+  Tracer<TVal>& tr_;
+  const Layout& L_;
+  const Config& cfg_;
+  render::Image& img_;
+};
+
+}  // namespace
+
+int64_t traverse(Tracer<TVal>& tr, const Ray& r, const TVal& tmin, TVal& tmax, bool any) {
+  return g_ctx->stackless ? traverse_stackless(tr, r, tmin, tmax, any) : traverse_stack(tr, r, tmin, tmax, any);
+}
+
+render::RenderOptions render_options(const Config& c, int width, int height) {
+  render::RenderOptions o;
+  o.width = width;
+  o.height = height;
+  o.format = c.format == "float" ? "e8m23" : c.format;
+  o.tri = render::parse_tri(c.tri);
+  o.box = render::parse_box(c.box);
+  o.bvh = render::parse_bvh(c.bvh);
+  o.noise = render::parse_noise(c.noise);
+  o.leaf_size = c.leaf_size;
+  o.shadows = true;
+  o.threads = 1;
+  return o;
+}
+
+TraxResult run_trax(const scene::Scene& s, const Config& c, int width, int height, bool progress) {
+  c.validate();
+  if (width < 1 || height < 1 || width > 16384 || height > 16384)
+    throw std::invalid_argument("image size must be between 1x1 and 16384x16384");
+  if (s.tris.empty()) throw std::invalid_argument("scene '" + s.name + "' has no triangles");
+  const render::RenderOptions opt = render_options(c, width, height);
+  const num::Format fmt = num::Format::parse(opt.format);
+  num::SoftScope scope(fmt);
+
+  TraxResult R;
+  R.cfg = c;
+  render::RenderStats rst;
+  const Prepared<Soft> S = render::kernel::prepare<Soft>(s, opt, &rst);
+  R.bvh_nodes = S.nodes.size();
+  R.bvh_depth = S.depth;
+
+  Ctx C;
+  C.cfg = &c;
+  C.stackless = c.traversal == "stackless";
+  if (C.stackless && S.depth > 63)
+    throw std::invalid_argument("stackless traversal: BVH depth " + std::to_string(S.depth) + " exceeds the 63-bit trail");
+  Layout& L = C.L;
+  L.W = static_cast<uint64_t>(c.value_bytes());
+  L.node_bytes = align(6 * L.W + 16, 16);
+  L.tri_bytes = 9 * L.W;
+  L.tri_base = align(L.node(static_cast<int64_t>(S.nodes.size())), 4096);
+  L.mat_base = align(L.tri(static_cast<int64_t>(S.tris.size())), 4096);
+  L.cam_base = align(L.mat_base + S.mats.size() * 8 * L.W, 4096);
+  C.parent.assign(S.nodes.size(), -1);
+  for (size_t i = 0; i < S.nodes.size(); ++i)
+    if (S.nodes[i].left >= 0) {
+      C.parent[S.nodes[i].left] = static_cast<int32_t>(i);
+      C.parent[S.nodes[i].right] = static_cast<int32_t>(i);
+    }
+  const Prepared<TVal> P = tag(S, L);
+
+  R.image.width = width;
+  R.image.height = height;
+  R.image.rgb.assign(static_cast<size_t>(width) * height * 3, 0.0f);
+  Tracer<TVal> tracer(P, opt);
+  RenderWork work(tracer, L, c, R.image);
+  Ctx* saved = g_ctx;
+  g_ctx = &C;
+  try {
+    R.sim = simulate(c, work, progress);
+  } catch (...) {
+    g_ctx = saved;
+    throw;
+  }
+  g_ctx = saved;
+  R.primary_rays = tracer.cnt.primary;
+  R.shadow_rays = tracer.cnt.shadow;
+  R.box_tests = tracer.cnt.box;
+  R.tri_tests = tracer.cnt.tri;
+  R.noise_evals = tracer.cnt.noise;
+  R.node_visits = C.visits;
+  R.up_steps = C.up_steps;
+  R.max_stack = C.max_stack;
+  R.area = area_estimate(c, R.sim);
+  return R;
+}
+
+}  // namespace ru::trax

@@ -1,0 +1,178 @@
+// TRaX model: area estimate and the summary (JSON, Markdown, last stdout line).
+#include <cstdio>
+#include <sstream>
+
+#include "rayunits/trax/trax.hpp"
+
+namespace ru::trax {
+
+Area area_estimate(const Config& c, const SimStats& st) {
+  Area a;
+  for (int u = 0; u < kUnits; ++u) {
+    if (!st.unit_ops[u]) continue;  // not used by the scene's kernel: not instantiated
+    const UnitCfg& k = c.units[u];
+    a.items.push_back({std::string("unit ") + unit_name(static_cast<Unit>(u)), double(c.tms) * k.count, k.area});
+    a.units += a.items.back().total();
+  }
+  const double reg_bits = 8.0 * c.value_bytes();
+  const std::vector<AreaItem> mem = {
+      {"register files (" + std::to_string(c.registers_per_thread) + " x " + std::to_string(int(reg_bits)) +
+           " bits per thread)",
+       double(c.threads()), c.registers_per_thread * reg_bits * c.regfile_bit},
+      {"local stores (" + std::to_string(c.local_store_bytes) + " B per thread)", double(c.threads()),
+       c.local_store_bytes * 8.0 * c.sram_bit},
+      {"L1 data caches (" + std::to_string(c.l1.size) + " B)", double(c.tms), double(c.l1.size) * 8.0 * c.sram_bit},
+      {"L2 cache (" + std::to_string(c.l2.size) + " B)", 1.0, double(c.l2.size) * 8.0 * c.sram_bit},
+  };
+  for (const auto& m : mem) {
+    a.items.push_back(m);
+    a.memories += m.total();
+  }
+  a.total = a.units + a.memories;
+  return a;
+}
+
+namespace {
+std::string num(double v, const char* fmt = "%.6g") {
+  char b[64];
+  std::snprintf(b, sizeof b, fmt, v);
+  return b;
+}
+std::string esc(const std::string& s) {
+  std::string o;
+  for (char ch : s) {
+    if (ch == '"' || ch == '\\') o += '\\';
+    if (static_cast<unsigned char>(ch) < 0x20) continue;
+    o += ch;
+  }
+  return o;
+}
+double dram_gbps(const TraxResult& r) {
+  const double s = r.seconds();
+  return s > 0 ? double(r.sim.dram_read_bytes + r.sim.dram_write_bytes) / s / 1e9 : 0.0;
+}
+double tp_cycles(const TraxResult& r) { return double(r.sim.cycles) * r.cfg.threads(); }
+}  // namespace
+
+std::string summary_line(const TraxResult& r) {
+  std::ostringstream o;
+  o << "cycles=" << r.sim.cycles << " rays=" << r.rays() << " rays_per_s=" << num(r.rays_per_second(), "%.4g")
+    << " (at " << num(r.cfg.clock_mhz, "%g") << " MHz) area=" << num(r.area.total, "%.4g");
+  return o.str();
+}
+
+std::string summary_json(const TraxResult& r, const std::string& scene_name, const std::string& command) {
+  const SimStats& s = r.sim;
+  const Config& c = r.cfg;
+  std::ostringstream o;
+  o << "{\n  \"command\": \"" << esc(command) << "\",\n  \"scene\": \"" << esc(scene_name) << "\",\n"
+    << "  \"width\": " << r.image.width << ", \"height\": " << r.image.height << ",\n"
+    << "  \"format\": \"" << c.format << "\", \"tri\": \"" << c.tri << "\", \"box\": \"" << c.box
+    << "\", \"noise\": \"" << c.noise << "\", \"traversal\": \"" << c.traversal << "\", \"bvh\": \"" << c.bvh
+    << "\",\n  \"tms\": " << c.tms << ", \"tps_per_tm\": " << c.tps_per_tm << ", \"clock_mhz\": " << num(c.clock_mhz)
+    << ",\n  \"cycles\": " << s.cycles << ", \"rays\": " << r.rays() << ", \"primary_rays\": " << r.primary_rays
+    << ", \"shadow_rays\": " << r.shadow_rays << ",\n  \"rays_per_s\": " << num(r.rays_per_second())
+    << ", \"frames_per_s\": " << num(r.seconds() > 0 ? 1.0 / r.seconds() : 0.0)
+    << ",\n  \"instructions\": " << s.instructions << ", \"issue_rate\": " << num(s.issue_rate(c))
+    << ",\n  \"box_tests\": " << r.box_tests << ", \"tri_tests\": " << r.tri_tests << ", \"noise_evals\": "
+    << r.noise_evals << ", \"node_visits\": " << r.node_visits << ", \"up_steps\": " << r.up_steps
+    << ", \"max_stack_entries\": " << r.max_stack << ", \"max_live_registers\": " << s.max_live_registers
+    << ",\n  \"bvh_nodes\": " << r.bvh_nodes << ", \"bvh_depth\": " << r.bvh_depth << ",\n  \"ops\": {";
+  for (int i = 0; i < kOps; ++i)
+    o << (i ? ", " : "") << "\"" << op_name(static_cast<Op>(i)) << "\": " << s.op_count[i];
+  o << "},\n  \"units\": {";
+  bool first = true;
+  for (int u = 0; u < kUnits; ++u) {
+    if (!s.unit_ops[u]) continue;
+    const UnitCfg& k = c.units[u];
+    o << (first ? "" : ", ") << "\"" << unit_name(static_cast<Unit>(u)) << "\": {\"ops\": " << s.unit_ops[u]
+      << ", \"utilisation\": " << num(s.utilisation(c, static_cast<Unit>(u))) << ", \"latency\": " << k.latency
+      << ", \"count\": " << k.count << ", \"width\": " << k.width << ", \"area\": " << num(k.area) << "}";
+    first = false;
+  }
+  o << "},\n  \"stalls\": {\"dependency\": " << s.stall_dependency << ", \"memory\": " << s.stall_memory
+    << ", \"bank_conflicts\": " << s.bank_conflicts << ", \"contention\": " << s.stall_contention
+    << ", \"idle\": " << s.idle << ", \"tp_cycles\": " << num(tp_cycles(r), "%.0f") << "},\n"
+    << "  \"l1\": {\"accesses\": " << s.l1.accesses << ", \"hits\": " << s.l1.hits << ", \"pending_hits\": "
+    << s.l1.pending_hits << ", \"misses\": " << s.l1.misses << ", \"hit_rate\": " << num(s.l1.hit_rate()) << "},\n"
+    << "  \"l2\": {\"accesses\": " << s.l2.accesses << ", \"hits\": " << s.l2.hits << ", \"pending_hits\": "
+    << s.l2.pending_hits << ", \"misses\": " << s.l2.misses << ", \"hit_rate\": " << num(s.l2.hit_rate()) << "},\n"
+    << "  \"dram\": {\"read_bytes\": " << s.dram_read_bytes << ", \"write_bytes\": " << s.dram_write_bytes
+    << ", \"gb_per_s\": " << num(dram_gbps(r)) << "},\n  \"area\": {\"total\": " << num(r.area.total)
+    << ", \"units\": " << num(r.area.units) << ", \"memories\": " << num(r.area.memories) << ", \"items\": [";
+  for (size_t i = 0; i < r.area.items.size(); ++i) {
+    const auto& it = r.area.items[i];
+    o << (i ? ", " : "") << "{\"name\": \"" << esc(it.name) << "\", \"count\": " << num(it.count)
+      << ", \"each\": " << num(it.each) << ", \"total\": " << num(it.total()) << "}";
+  }
+  o << "]},\n  \"rays_per_s_per_area\": " << num(r.area.total > 0 ? r.rays_per_second() / r.area.total : 0.0)
+    << ",\n  \"host_seconds\": " << num(s.host_seconds) << ", \"host_instructions_per_s\": "
+    << num(s.host_seconds > 0 ? double(s.instructions) / s.host_seconds : 0.0) << "\n}\n";
+  return o.str();
+}
+
+std::string summary_md(const TraxResult& r, const std::string& scene_name, const std::string& command) {
+  const SimStats& s = r.sim;
+  const Config& c = r.cfg;
+  const double tpc = tp_cycles(r);
+  std::ostringstream o;
+  o << "# TRaX model: " << scene_name << " " << r.image.width << "x" << r.image.height << "\n\n`" << command
+    << "`\n\n"
+    << "| | |\n|---|---|\n"
+    << "| chip | " << c.tms << " TMs x " << c.tps_per_tm << " TPs at " << num(c.clock_mhz, "%g") << " MHz |\n"
+    << "| format / tri / box / noise | " << c.format << " / " << c.tri << " / " << c.box << " / " << c.noise << " |\n"
+    << "| traversal | " << c.traversal << " (BVH " << c.bvh << ", " << r.bvh_nodes << " nodes, depth " << r.bvh_depth
+    << ") |\n"
+    << "| cycles | " << s.cycles << " |\n"
+    << "| rays (primary + shadow) | " << r.rays() << " (" << r.primary_rays << " + " << r.shadow_rays << ") |\n"
+    << "| rays/s | " << num(r.rays_per_second(), "%.4g") << " (" << num(r.seconds() > 0 ? 1 / r.seconds() : 0, "%.4g")
+    << " frames/s) |\n"
+    << "| instructions | " << s.instructions << " (issue rate " << num(s.issue_rate(c), "%.3f") << " per TP per cycle) |\n"
+    << "| box / tri tests, noise | " << r.box_tests << " / " << r.tri_tests << ", " << r.noise_evals << " |\n"
+    << "| node visits | " << r.node_visits << " (" << num(r.rays() ? double(r.node_visits) / r.rays() : 0, "%.2f")
+    << " per ray; stackless up-steps " << r.up_steps << ") |\n"
+    << "| registers per thread (max live) | " << s.max_live_registers << " (configured " << c.registers_per_thread
+    << ") |\n"
+    << "| local store per thread | " << 8 * r.max_stack << " B used (stack entries " << r.max_stack << " x 8 B; configured "
+    << c.local_store_bytes << " B) |\n"
+    << "| L1 hit rate | " << num(100 * s.l1.hit_rate(), "%.2f") << " % (" << s.l1.accesses << " accesses, "
+    << s.l1.pending_hits << " hits on lines in flight) |\n"
+    << "| L2 hit rate | " << num(100 * s.l2.hit_rate(), "%.2f") << " % (" << s.l2.accesses << " accesses) |\n"
+    << "| DRAM | " << s.dram_read_bytes << " B read, " << s.dram_write_bytes << " B written, "
+    << num(dram_gbps(r), "%.3f") << " GB/s |\n"
+    << "| area | " << num(r.area.total, "%.4g") << " NAND2-eq (units " << num(r.area.units, "%.4g") << ", memories "
+    << num(r.area.memories, "%.4g") << ") |\n"
+    << "| rays/s per NAND2-eq | " << num(r.area.total > 0 ? r.rays_per_second() / r.area.total : 0, "%.4g") << " |\n"
+    << "| host | " << num(s.host_seconds, "%.2f") << " s, "
+    << num(s.host_seconds > 0 ? s.instructions / s.host_seconds / 1e6 : 0, "%.2f") << " M thread-instructions/s |\n\n";
+  o << "## Stalls (TP-cycles, of " << num(tpc, "%.0f") << ")\n\n| cause | TP-cycles | share |\n|---|---:|---:|\n";
+  auto row = [&](const char* n, uint64_t v) { o << "| " << n << " | " << v << " | " << num(tpc ? 100.0 * v / tpc : 0, "%.1f") << " % |\n"; };
+  row("issued", s.instructions);
+  row("dependency (FU result)", s.stall_dependency);
+  row("memory (load / local store / atomic result, L1 bank conflict)", s.stall_memory);
+  row("unit contention", s.stall_contention);
+  row("idle (halted)", s.idle);
+  o << "\n## Functional units (per TM)\n\n| unit | latency | count | width | ops | utilisation | area each |\n"
+       "|---|---:|---:|---:|---:|---:|---:|\n";
+  for (int u = 0; u < kUnits; ++u) {
+    const UnitCfg& k = c.units[u];
+    if (!s.unit_ops[u]) {
+      o << "| " << unit_name(static_cast<Unit>(u)) << " | not used by this scene: not instantiated | | | | | |\n";
+      continue;
+    }
+    o << "| " << unit_name(static_cast<Unit>(u)) << " | " << k.latency << " | " << k.count << " | " << k.width << " | "
+      << s.unit_ops[u] << " | " << num(100 * s.utilisation(c, static_cast<Unit>(u)), "%.1f") << " % | "
+      << num(k.area, "%.0f") << " |\n";
+  }
+  o << "\n## Area model (NAND2-eq)\n\n| item | count | each | total |\n|---|---:|---:|---:|\n";
+  for (const auto& it : r.area.items)
+    o << "| " << it.name << " | " << num(it.count, "%g") << " | " << num(it.each, "%.0f") << " | "
+      << num(it.total(), "%.0f") << " |\n";
+  o << "| **total** | | | **" << num(r.area.total, "%.0f") << "** |\n";
+  o << "\n## Instruction mix\n\n| op | count |\n|---|---:|\n";
+  for (int i = 0; i < kOps; ++i)
+    if (s.op_count[i]) o << "| " << op_name(static_cast<Op>(i)) << " | " << s.op_count[i] << " |\n";
+  return o.str();
+}
+
+}  // namespace ru::trax

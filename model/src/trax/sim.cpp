@@ -1,0 +1,360 @@
+// The TRaX timing model: a SystemC clock drives one clocked process that steps every thread
+// multiprocessor once per cycle (rules in rayunits/trax/sim.hpp and docs/TRAX.md).
+#include "rayunits/trax/sim.hpp"
+
+#include <systemc>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <unordered_map>
+
+namespace ru::trax {
+
+const char* op_name(Op op) {
+  static const char* const n[kOps] = {"fadd", "fmul", "fdiv", "fsqrt", "fcmp", "conv", "int", "branch", "box",
+                                      "tri",  "noise", "load", "ldlocal", "stlocal", "store", "atomic"};
+  return n[static_cast<int>(op)];
+}
+
+uint32_t Thread::load_cached(uint64_t addr) {
+  auto it = load_cache_.find(addr);
+  if (it != load_cache_.end()) return it->second;
+  const uint32_t r = load(addr);
+  load_cache_.emplace(addr, r);
+  return r;
+}
+
+void Thread::finish() {
+  // Live range of a register: from its definition to its last use (a value never used is live
+  // in its defining instruction only). max_live = the most ranges covering one instruction.
+  Stream& s = *s_;
+  const uint32_t n = s.nregs;
+  live_end_.assign(n, 0);
+  std::vector<uint32_t>& end = live_end_;
+  for (uint32_t i = 0; i < s.code.size(); ++i) {
+    const Instr& in = s.code[i];
+    for (uint32_t k = 0; k < in.nsrc; ++k) end[s.srcs[in.src + k]] = i;
+    if (in.dst && end[in.dst] < i) end[in.dst] = i;
+  }
+  // delta[i]: +1 at definition, -1 after the last use (register 1, the item, is live from 0).
+  std::vector<int32_t> delta(s.code.size() + 1, 0);
+  if (!s.code.empty()) {
+    delta[0] += 1;
+    delta[end[1] + 1] -= 1;
+  }
+  for (uint32_t i = 0; i < s.code.size(); ++i) {
+    const Instr& in = s.code[i];
+    if (!in.dst) continue;
+    delta[i] += 1;
+    delta[end[in.dst] + 1] -= 1;
+  }
+  int32_t live = 0, best = 0;
+  for (size_t i = 0; i < s.code.size(); ++i) {
+    live += delta[i];
+    best = std::max(best, live);
+  }
+  s.max_live = static_cast<uint32_t>(best);
+}
+
+namespace {
+
+struct Cache {
+  struct Line {
+    uint64_t tag = ~0ull;  // line address
+    uint64_t ready = 0;    // cycle the data is there
+    uint64_t lru = 0;
+  };
+  CacheCfg cfg;
+  uint64_t sets = 1;
+  std::vector<Line> lines;
+  uint64_t tick = 0;
+  explicit Cache(const CacheCfg& c) : cfg(c) {
+    sets = c.size / (static_cast<uint64_t>(c.line) * c.ways);
+    lines.resize(sets * c.ways);
+  }
+  // The way holding line address la, or nullptr.
+  Line* find(uint64_t la) {
+    Line* set = &lines[(la & (sets - 1)) * cfg.ways];
+    for (int w = 0; w < cfg.ways; ++w)
+      if (set[w].tag == la) {
+        set[w].lru = ++tick;
+        return &set[w];
+      }
+    return nullptr;
+  }
+  Line* alloc(uint64_t la, uint64_t ready) {
+    Line* set = &lines[(la & (sets - 1)) * cfg.ways];
+    Line* victim = &set[0];
+    for (int w = 1; w < cfg.ways; ++w)
+      if (set[w].lru < victim->lru) victim = &set[w];
+    victim->tag = la;
+    victim->ready = ready;
+    victim->lru = ++tick;
+    return victim;
+  }
+};
+
+struct TP {
+  Stream s;
+  size_t pc = 0;
+  bool active = false, halted = false;
+  std::vector<uint64_t> ready;
+  std::vector<uint8_t> from_mem;
+};
+
+struct TM {
+  std::vector<TP> tps;
+  Cache l1;
+  std::array<int, kUnits> used{};
+  std::vector<uint8_t> bank_used;
+  TM(int n, const CacheCfg& c) : tps(n), l1(c), bank_used(c.banks, 0) {}
+};
+
+class Machine {
+ public:
+  Machine(const Config& c, WorkSource& w) : cfg_(c), work_(w), l2_(c.l2), l2_free_(c.l2.banks, 0) {
+    tms_.reserve(c.tms);
+    for (int i = 0; i < c.tms; ++i) tms_.emplace_back(c.tps_per_tm, c.l1);
+    for (int u = 0; u < kUnits; ++u) cap_[u] = c.units[u].count * c.units[u].width;
+    items_ = w.items();
+    st.items = items_;
+    running_ = c.threads();
+  }
+
+  bool done() const { return running_ == 0; }
+  uint64_t next_item() const { return next_item_; }
+
+  void cycle(uint64_t now) {
+    atomic_used_ = false;
+    const int n = cfg_.tms;
+    for (int k = 0; k < n; ++k) step(tms_[(now + k) % n], now);
+  }
+
+  SimStats st;
+
+ private:
+  uint64_t load(TM& tm, uint64_t addr, uint64_t now) {
+    const uint64_t la1 = addr / cfg_.l1.line;
+    ++st.l1.accesses;
+    if (Cache::Line* l = tm.l1.find(la1)) {
+      if (l->ready <= now + cfg_.l1.latency) {
+        ++st.l1.hits;
+        return now + cfg_.l1.latency;
+      }
+      ++st.l1.pending_hits;
+      return l->ready;
+    }
+    ++st.l1.misses;
+    const uint64_t t1 = now + cfg_.l1.latency;
+    const uint64_t la2 = addr / cfg_.l2.line;
+    uint64_t& bank_free = l2_free_[la2 % cfg_.l2.banks];
+    const uint64_t start = std::max(t1, bank_free);
+    bank_free = start + 1;
+    ++st.l2.accesses;
+    uint64_t ready;
+    if (Cache::Line* l = l2_.find(la2)) {
+      if (l->ready <= start + cfg_.l2.latency) {
+        ++st.l2.hits;
+        ready = start + cfg_.l2.latency;
+      } else {
+        ++st.l2.pending_hits;
+        ready = l->ready;
+      }
+    } else {
+      ++st.l2.misses;
+      const uint64_t t2 = start + cfg_.l2.latency;
+      const double transfer = double(cfg_.l2.line) / cfg_.dram_bytes_per_cycle;
+      const double begin = std::max(double(t2), dram_free_);
+      dram_free_ = begin + transfer;
+      ready = static_cast<uint64_t>(std::ceil(begin + transfer)) + cfg_.dram_latency;
+      st.dram_read_bytes += cfg_.l2.line;
+      l2_.alloc(la2, ready);
+    }
+    tm.l1.alloc(la1, ready);
+    return ready;
+  }
+
+  void step(TM& tm, uint64_t now) {
+    tm.used.fill(0);
+    std::fill(tm.bank_used.begin(), tm.bank_used.end(), 0);
+    const int n = cfg_.tps_per_tm;
+    for (int k = 0; k < n; ++k) {
+      TP& p = tm.tps[(now + k) % n];
+      if (p.halted) {
+        ++st.idle;
+        continue;
+      }
+      if (!p.active) {  // next work item: the atomic increment
+        if (atomic_used_) {
+          ++st.stall_contention;
+          continue;
+        }
+        atomic_used_ = true;
+        ++st.instructions;
+        ++st.op_count[static_cast<int>(Op::Atomic)];
+        const uint64_t done_at = now + cfg_.atomic_latency;
+        last_ = std::max(last_, done_at);
+        if (next_item_ >= items_) {
+          p.halted = true;
+          --running_;
+          continue;
+        }
+        const uint64_t item = next_item_++;
+        th_.begin(&p.s);
+        {
+          Thread::Scope scope(&th_);
+          work_.generate(item, th_);
+        }
+        th_.finish();
+        st.max_live_registers = std::max(st.max_live_registers, p.s.max_live);
+        st.max_stream_length = std::max<uint64_t>(st.max_stream_length, p.s.code.size());
+        p.ready.assign(p.s.nregs, 0);
+        p.from_mem.assign(p.s.nregs, 0);
+        p.ready[Thread::kItemReg] = done_at;
+        p.from_mem[Thread::kItemReg] = 1;
+        p.pc = 0;
+        p.active = !p.s.code.empty();
+        continue;
+      }
+      const Instr& in = p.s.code[p.pc];
+      bool blocked = false, mem = false;
+      for (uint32_t i = 0; i < in.nsrc; ++i) {
+        const uint32_t r = p.s.srcs[in.src + i];
+        if (p.ready[r] > now) {
+          blocked = true;
+          mem = mem || p.from_mem[r];
+        }
+      }
+      if (blocked) {
+        if (mem)
+          ++st.stall_memory;
+        else
+          ++st.stall_dependency;
+        continue;
+      }
+      const Unit u = op_unit(in.op);
+      uint64_t ready;
+      bool is_mem = false;
+      if (u != Unit::kCount) {
+        const int ui = static_cast<int>(u);
+        if (tm.used[ui] >= cap_[ui]) {
+          ++st.stall_contention;
+          continue;
+        }
+        ++tm.used[ui];
+        ++st.unit_ops[ui];
+        ready = now + cfg_.units[ui].latency;
+      } else {
+        is_mem = true;
+        switch (in.op) {
+          case Op::Load: {
+            uint8_t& b = tm.bank_used[(in.addr / cfg_.l1.line) % cfg_.l1.banks];
+            if (b) {
+              ++st.stall_memory;
+              ++st.bank_conflicts;
+              continue;
+            }
+            b = 1;
+            ready = load(tm, in.addr, now);
+            break;
+          }
+          case Op::LoadLocal:
+          case Op::StoreLocal:
+            ready = now + cfg_.local_store_latency;
+            break;
+          case Op::Store: {
+            const double bytes = cfg_.framebuffer_bytes_per_pixel;
+            dram_free_ = std::max(double(now), dram_free_) + bytes / cfg_.dram_bytes_per_cycle;
+            st.dram_write_bytes += cfg_.framebuffer_bytes_per_pixel;
+            ready = now + 1;
+            break;
+          }
+          default:  // Atomic inside a stream is not part of the ISA kernels may emit
+            ready = now + cfg_.atomic_latency;
+            break;
+        }
+      }
+      if (in.dst) {
+        p.ready[in.dst] = ready;
+        p.from_mem[in.dst] = is_mem;
+      }
+      last_ = std::max(last_, ready);
+      ++st.instructions;
+      ++st.op_count[static_cast<int>(in.op)];
+      if (++p.pc == p.s.code.size()) p.active = false;
+    }
+  }
+
+ public:
+  uint64_t last() const { return last_; }
+
+ private:
+  const Config& cfg_;
+  WorkSource& work_;
+  std::vector<TM> tms_;
+  Cache l2_;
+  std::vector<uint64_t> l2_free_;
+  double dram_free_ = 0;
+  std::array<int, kUnits> cap_{};
+  bool atomic_used_ = false;
+  uint64_t items_ = 0, next_item_ = 0, last_ = 0;
+  int running_ = 0;
+  Thread th_;
+};
+
+// The SystemC side: a clock and one clocked process stepping the machine.
+struct Chip : sc_core::sc_module {
+  sc_core::sc_clock clk;
+  Machine& m;
+  uint64_t now = 0;
+  bool progress;
+  std::chrono::steady_clock::time_point t0, last;
+  SC_HAS_PROCESS(Chip);
+  Chip(sc_core::sc_module_name nm, const sc_core::sc_time& period, Machine& mm, bool prog)
+      : sc_core::sc_module(nm), clk("clk", period), m(mm), progress(prog) {
+    SC_METHOD(tick);
+    sensitive << clk.posedge_event();
+    dont_initialize();
+    t0 = last = std::chrono::steady_clock::now();
+  }
+  void tick() {
+    m.cycle(now++);
+    if (m.done()) {
+      sc_core::sc_stop();
+      return;
+    }
+    if (progress && (now & 0xffff) == 0) {
+      const auto t = std::chrono::steady_clock::now();
+      if (std::chrono::duration<double>(t - last).count() >= 2.0) {
+        last = t;
+        std::fprintf(stderr, "trax: cycle %llu, %llu items started, %.1f s\n", (unsigned long long)now,
+                     (unsigned long long)m.next_item(), std::chrono::duration<double>(t - t0).count());
+      }
+    }
+  }
+};
+
+}  // namespace
+
+SimStats simulate(const Config& cfg, WorkSource& work, bool progress) {
+  cfg.validate();
+  const auto t0 = std::chrono::steady_clock::now();
+  // A fresh simulation context per run: SystemC 2.3 cannot elaborate again after sc_start, so
+  // each run gets its own context (the previous one is abandoned; it holds only this module).
+  sc_core::sc_curr_simcontext = new sc_core::sc_simcontext();
+  sc_core::sc_default_global_context = sc_core::sc_curr_simcontext;
+  sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
+  Machine m(cfg, work);
+  const double ps = std::max(1.0, std::round(1e6 / cfg.clock_mhz));
+  Chip* chip = new Chip("trax", sc_core::sc_time(ps, sc_core::SC_PS), m, progress);
+  (void)chip;
+  sc_core::sc_start();
+  SimStats st = m.st;
+  st.cycles = m.last();
+  st.host_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return st;
+}
+
+}  // namespace ru::trax

@@ -1,0 +1,312 @@
+// TRaX model: micro-kernels against hand-computed schedules, the frame buffer against the
+// renderer pixel for pixel, determinism, configuration errors.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <fstream>
+#include <sstream>
+
+#include "rayunits/render/render.hpp"
+#include "rayunits/scene/scene.hpp"
+#include "rayunits/trax/trax.hpp"
+
+using namespace ru::trax;
+
+namespace {
+
+// A chip of one TM with `tps` TPs; every unit latency 1 unless a test says otherwise.
+Config tiny(int tps = 1) {
+  Config c = default_config();
+  c.tms = 1;
+  c.tps_per_tm = tps;
+  c.atomic_latency = 1;
+  return c;
+}
+
+// N dependent adds: the first reads the work item register.
+FunctionWork add_chain(int n) {
+  return FunctionWork(1, [n](uint64_t, Thread& t) {
+    uint32_t r = Thread::kItemReg;
+    for (int i = 0; i < n; ++i) r = t.emit(Op::FAdd, {r});
+  });
+}
+
+::testing::AssertionResult chain_takes(const Config& c, int n, uint64_t expected) {
+  FunctionWork w = add_chain(n);
+  const SimStats s = simulate(c, w);
+  if (s.cycles == expected) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "cycles " << s.cycles << ", expected " << expected;
+}
+
+}  // namespace
+
+// Hand schedule, 1 TP, fp_add latency 2, atomic latency 1, N = 10:
+//   cycle 0: Atomic (item 0), item register ready at 1
+//   add k (k = 1..N) issues at 1 + 2(k-1) (each waits for the previous result), so add 10 at 19,
+//   ready at 21; cycle 20: the next Atomic finds no work, the TP halts, ready at 21.
+//   total = 2N + 1 = 21 cycles; a dependency stall between consecutive adds: N - 1 = 9.
+TEST(TraxTiming, DependentAddChain) {
+  Config c = tiny();
+  c.unit(Unit::FpAdd).latency = 2;
+  FunctionWork w = add_chain(10);
+  const SimStats s = simulate(c, w);
+  EXPECT_EQ(s.cycles, 21u);
+  EXPECT_EQ(s.instructions, 12u);  // 2 atomics + 10 adds
+  EXPECT_EQ(s.stall_dependency, 9u);
+  EXPECT_EQ(s.stall_memory, 0u);
+  EXPECT_EQ(s.stall_contention, 0u);
+  EXPECT_EQ(s.unit_ops[static_cast<int>(Unit::FpAdd)], 10u);
+  EXPECT_EQ(s.max_live_registers, 2u);  // at every add: its operand and its result
+}
+
+// Planted error: the same checker with latency 3 (adds at 1 + 3(k-1), total 3N + 1 = 31) must
+// reject the latency-2 answer 21 and accept 31.
+TEST(TraxTiming, PlantedLatencyChangeIsCaught) {
+  Config c = tiny();
+  c.unit(Unit::FpAdd).latency = 3;
+  EXPECT_FALSE(chain_takes(c, 10, 21));
+  EXPECT_TRUE(chain_takes(c, 10, 31));
+  c.unit(Unit::FpAdd).latency = 2;
+  EXPECT_TRUE(chain_takes(c, 10, 21));
+}
+
+// Two TPs, one multiplier of width 1, latency 4, each item 3 independent muls (reading the item).
+// TP priority rotates: cycle c serves TP (c mod 2) first.
+//   c0: TP0 Atomic (item 0); TP1 wants the Atomic: taken -> contention
+//   c1: TP1 Atomic (item 1); TP0 mul#1
+//   c2: TP0 mul#2;  TP1 mul#1 blocked (unit taken) -> contention
+//   c3: TP1 mul#1;  TP0 mul#3 -> contention
+//   c4: TP0 mul#3 (ready 8); TP1 mul#2 -> contention
+//   c5: TP1 mul#2;  TP0 Atomic: no work, halts (ready 6)
+//   c6: TP1 mul#3 (ready 10)  c7: TP1 Atomic, halts (ready 8)
+//   total 10 cycles, 4 contention stalls, 6 muls.
+TEST(TraxTiming, TwoThreadsContendForOneUnit) {
+  Config c = tiny(2);
+  c.unit(Unit::FpMul) = {4, 1, 1, 0};
+  FunctionWork w(2, [](uint64_t, Thread& t) {
+    for (int i = 0; i < 3; ++i) t.emit(Op::FMul, {Thread::kItemReg});
+  });
+  const SimStats s = simulate(c, w);
+  EXPECT_EQ(s.cycles, 10u);
+  EXPECT_EQ(s.stall_contention, 4u);
+  EXPECT_EQ(s.unit_ops[static_cast<int>(Unit::FpMul)], 6u);
+  // Width 2: c1 TP0#1; c2 TP0#2 TP1#1; c3 TP1#2 TP0#3 (ready 7); c4 TP0 halts, TP1#3 (ready 8);
+  // c5 TP1 halts (ready 6): total 8; only the c0 Atomic collision stalls.
+  c.unit(Unit::FpMul).width = 2;
+  FunctionWork w2(2, [](uint64_t, Thread& t) {
+    for (int i = 0; i < 3; ++i) t.emit(Op::FMul, {Thread::kItemReg});
+  });
+  const SimStats s2 = simulate(c, w2);
+  EXPECT_EQ(s2.cycles, 8u);
+  EXPECT_EQ(s2.stall_contention, 1u);
+  // count 2 x width 1 is the same capacity
+  c.unit(Unit::FpMul).width = 1;
+  c.unit(Unit::FpMul).count = 2;
+  FunctionWork w3(2, [](uint64_t, Thread& t) {
+    for (int i = 0; i < 3; ++i) t.emit(Op::FMul, {Thread::kItemReg});
+  });
+  EXPECT_EQ(simulate(c, w3).cycles, 8u);
+}
+
+// One TP: a load that misses everywhere, then a dependent load of the same line (an L1 hit).
+// L1 latency 1, L2 latency 3, DRAM latency 100, 16 B/cycle, 64 B lines (transfer 4 cycles).
+//   c0 Atomic, item ready at 1
+//   c1 load#1: L1 miss, L2 request at 2 (bank free) -> L2 miss, DRAM at 2 + 3 = 5,
+//      begins 5, channel busy to 9, data ready at 9 + 100 = 109
+//   c109 load#2: L1 hit, ready 110;  c110 Atomic, halt, ready 111  -> 111 cycles
+//   memory stalls: cycles 2..108 = 107
+TEST(TraxTiming, LoadMissThenHit) {
+  Config c = tiny();
+  c.l1 = {32768, 4, 64, 1, 1};
+  c.l2 = {524288, 8, 64, 3, 1};
+  c.dram_latency = 100;
+  c.dram_bytes_per_cycle = 16;
+  FunctionWork w(1, [](uint64_t, Thread& t) {
+    const uint32_t a = t.load(0x1000, Thread::kItemReg);
+    t.load(0x1008, a);
+  });
+  const SimStats s = simulate(c, w);
+  EXPECT_EQ(s.cycles, 111u);
+  EXPECT_EQ(s.stall_memory, 107u);
+  EXPECT_EQ(s.l1.accesses, 2u);
+  EXPECT_EQ(s.l1.misses, 1u);
+  EXPECT_EQ(s.l1.hits, 1u);
+  EXPECT_EQ(s.l2.misses, 1u);
+  EXPECT_EQ(s.dram_read_bytes, 64u);
+  // Planted change: DRAM latency 50 -> 61 cycles.
+  c.dram_latency = 50;
+  FunctionWork w2(1, [](uint64_t, Thread& t) {
+    const uint32_t a = t.load(0x1000, Thread::kItemReg);
+    t.load(0x1008, a);
+  });
+  EXPECT_EQ(simulate(c, w2).cycles, 61u);
+}
+
+// Two loads in the same cycle to the same L1 bank: one TP stalls a cycle (bank conflict), then
+// hits the line still in flight (a pending hit: ready when the fill arrives). fp_add latency 1.
+// Item 0 does two dependent adds before its load, item 1 one add, so both loads want cycle 3:
+//   c0 TP0 Atomic (item 0, ready 1); TP1 collides on the Atomic
+//   c1 TP1 Atomic (item 1, ready 2); TP0 add#1      c2 TP0 add#2; TP1 add#1 (both ready 3)
+//   c3 TP1 first: load miss -> L2 at 4, miss, DRAM at 4 + 3 = 7, busy to 11, ready 111;
+//      TP0: same bank taken -> memory stall (bank conflict)
+//   c4 TP0 load: line in flight -> pending hit, ready 111; TP1 Atomic: no work, halts
+//   c5 TP0 Atomic, halts                                          -> 111 cycles
+TEST(TraxTiming, BankConflictThenPendingHit) {
+  Config c = tiny(2);
+  c.unit(Unit::FpAdd).latency = 1;
+  FunctionWork w(2, [](uint64_t item, Thread& t) {
+    uint32_t r = t.emit(Op::FAdd, {Thread::kItemReg});
+    if (item == 0) r = t.emit(Op::FAdd, {r});
+    t.load(0x2000, r);
+  });
+  const SimStats s = simulate(c, w);
+  EXPECT_EQ(s.bank_conflicts, 1u);
+  EXPECT_EQ(s.l1.misses, 1u);
+  EXPECT_EQ(s.l1.pending_hits, 1u);
+  EXPECT_EQ(s.l2.accesses, 1u);
+  EXPECT_EQ(s.cycles, 111u);
+  // Different banks (line 0x2000 -> bank 0, line 0x2040 -> bank 1): no conflict, two misses;
+  // the second L2 request (c3 + 1 = 4, another L2 bank) reaches DRAM at 7 but the channel is
+  // busy until 11: ready 11 + 4 + 100 = 115.
+  FunctionWork w2(2, [](uint64_t item, Thread& t) {
+    uint32_t r = t.emit(Op::FAdd, {Thread::kItemReg});
+    if (item == 0) r = t.emit(Op::FAdd, {r});
+    t.load(item == 0 ? 0x2000 : 0x2040, r);
+  });
+  const SimStats s2 = simulate(c, w2);
+  EXPECT_EQ(s2.bank_conflicts, 0u);
+  EXPECT_EQ(s2.l1.misses, 2u);
+  EXPECT_EQ(s2.cycles, 115u);
+}
+
+namespace {
+ru::scene::Scene scene16() { return ru::scene::make_scene("default"); }
+
+void expect_same_image(const Config& c, int w, int h, bool check_counts) {
+  const ru::scene::Scene s = scene16();
+  const TraxResult r = run_trax(s, c, w, h);
+  ru::render::RenderOptions o = render_options(c, w, h);
+  if (c.format == "float") o.format = "float";  // native float: must equal the emulated e8m23
+  ru::render::RenderStats st;
+  const ru::render::Image ref = ru::render::render(s, o, &st);
+  ASSERT_EQ(ref.rgb.size(), r.image.rgb.size());
+  size_t diff = 0;
+  for (size_t i = 0; i < ref.rgb.size(); ++i)
+    if (std::memcmp(&ref.rgb[i], &r.image.rgb[i], sizeof(float)) != 0) ++diff;
+  EXPECT_EQ(diff, 0u) << c.format << " " << c.tri << " " << c.traversal;
+  EXPECT_EQ(r.primary_rays, st.primary_rays);
+  EXPECT_EQ(r.shadow_rays, st.shadow_rays);
+  EXPECT_EQ(r.noise_evals, st.noise_evals);
+  if (check_counts) {  // the stack traversal tests exactly the renderer's pairs
+    EXPECT_EQ(r.box_tests, st.box_tests);
+    EXPECT_EQ(r.tri_tests, st.tri_tests);
+  }
+  EXPECT_GT(r.sim.cycles, 0u);
+}
+}  // namespace
+
+TEST(TraxImage, FloatEqualsRendererPixelForPixel) {
+  Config c = default_config();
+  c.format = "float";
+  expect_same_image(c, 16, 16, true);
+}
+
+TEST(TraxImage, ReducedFormatsEqualRenderer) {
+  Config c = default_config();
+  c.format = "e6m12";
+  c.tri = "mt";
+  expect_same_image(c, 16, 12, true);
+  c.format = "e5m10";
+  c.tri = "robust";
+  c.noise = "float";
+  expect_same_image(c, 12, 16, true);
+}
+
+TEST(TraxImage, StacklessEqualsRenderer) {
+  Config c = default_config();
+  c.format = "e7m12";
+  c.traversal = "stackless";
+  expect_same_image(c, 16, 16, false);
+}
+
+// Planted error for the image comparison: the renderer in another format must differ.
+TEST(TraxImage, PlantedFormatMismatchIsDetected) {
+  Config c = default_config();
+  const ru::scene::Scene s = scene16();
+  const TraxResult r = run_trax(s, c, 16, 16);
+  ru::render::RenderOptions o = render_options(c, 16, 16);
+  o.format = "e5m6";
+  const ru::render::Image other = ru::render::render(s, o);
+  EXPECT_NE(std::memcmp(other.rgb.data(), r.image.rgb.data(), other.rgb.size() * sizeof(float)), 0);
+}
+
+TEST(TraxImage, DeterministicCyclesAndImage) {
+  Config c = default_config();
+  c.tms = 2;
+  c.tps_per_tm = 8;
+  const ru::scene::Scene s = scene16();
+  const TraxResult a = run_trax(s, c, 12, 12), b = run_trax(s, c, 12, 12);
+  EXPECT_EQ(a.sim.cycles, b.sim.cycles);
+  EXPECT_EQ(a.sim.instructions, b.sim.instructions);
+  EXPECT_EQ(a.sim.stall_memory, b.sim.stall_memory);
+  EXPECT_EQ(a.sim.l1.hits, b.sim.l1.hits);
+  EXPECT_EQ(a.image.rgb, b.image.rgb);
+  // Units not used by the kernel are not charged: a scene without procedural materials has no
+  // noise unit.
+  EXPECT_GT(a.sim.unit_ops[static_cast<int>(Unit::Noise)], 0u);
+  const TraxResult cb = run_trax(ru::scene::make_scene("cornell"), c, 8, 8);
+  EXPECT_EQ(cb.sim.unit_ops[static_cast<int>(Unit::Noise)], 0u);
+  for (const auto& it : cb.area.items) EXPECT_EQ(it.name.find("noise"), std::string::npos) << it.name;
+  // Changing one latency changes the cycle count.
+  c.unit(Unit::Box).latency += 10;
+  EXPECT_NE(run_trax(s, c, 12, 12).sim.cycles, a.sim.cycles);
+}
+
+TEST(TraxConfig, BadKeysGiveOneLineNamingTheKey) {
+  auto msg = [](const std::string& text) -> std::string {
+    try {
+      parse_config(text, "t.toml");
+    } catch (const ConfigError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  EXPECT_NE(msg("[l1]\nbanks = 3\n").find("key 'l1.banks'"), std::string::npos);
+  EXPECT_NE(msg("[units.fp_ad]\nlatency = 2\n").find("key 'units.fp_ad'"), std::string::npos);
+  EXPECT_NE(msg("[units.fp_add]\nlatency = 0\n").find("key 'units.fp_add.latency'"), std::string::npos);
+  EXPECT_NE(msg("[chip]\ntms = \"four\"\n").find("key 'chip.tms'"), std::string::npos);
+  EXPECT_NE(msg("[chip]\nformat = \"e1m3\"\n").find("key 'chip.format'"), std::string::npos);
+  EXPECT_NE(msg("[chip]\ntri = \"fast\"\n").find("accepted: robust, mt"), std::string::npos);
+  EXPECT_NE(msg("[chip]\ncolour = 1\n").find("key 'chip.colour'"), std::string::npos);
+  EXPECT_NE(msg("[cache]\nsize = 1\n").find("key 'cache'"), std::string::npos);
+  EXPECT_NE(msg("[l2]\nsize = 1000\n").find("key 'l2.size'"), std::string::npos);
+  EXPECT_NE(msg("[chip\n").find("t.toml: line 1"), std::string::npos);
+  for (const char* t : {"[l1]\nbanks = 3\n", "[chip]\ncolour = 1\n"}) EXPECT_EQ(msg(t).find('\n'), std::string::npos);
+  EXPECT_EQ(msg("[chip]\ntms = 2\n"), "");
+  EXPECT_THROW(load_config("/nonexistent/trax.toml"), ConfigError);
+}
+
+TEST(TraxConfig, DefaultFileMatchesBuiltInAndRoundTrips) {
+  const Config file = load_config(std::string(RU_SOURCE_DIR) + "/model/data/trax/default.toml");
+  EXPECT_EQ(to_toml(file), to_toml(default_config()));
+  Config c = default_config();
+  c.tms = 3;
+  c.unit(Unit::Tri).latency = 31;
+  c.l2.ways = 4;
+  c.dram_bytes_per_cycle = 12.5;
+  EXPECT_EQ(to_toml(parse_config(to_toml(c), "rt")), to_toml(c));
+}
+
+TEST(TraxReport, SummaryLineFormat) {
+  Config c = default_config();
+  c.tms = 1;
+  c.tps_per_tm = 4;
+  const TraxResult r = run_trax(ru::scene::make_scene("cornell"), c, 4, 4);
+  const std::string line = summary_line(r);
+  std::ostringstream want;
+  want << "cycles=" << r.sim.cycles << " rays=" << r.rays() << " rays_per_s=";
+  EXPECT_EQ(line.rfind(want.str(), 0), 0u) << line;
+  EXPECT_NE(line.find(" (at 1000 MHz) area="), std::string::npos) << line;
+  // rays/s = rays / (cycles / clock)
+  EXPECT_NEAR(r.rays_per_second(), double(r.rays()) * 1e9 / double(r.sim.cycles), 1e-6 * r.rays_per_second());
+}
