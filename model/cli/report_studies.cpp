@@ -295,7 +295,7 @@ std::string intersection_section(Context& ctx) {
   const std::string n_box = ctx.param("intersection.box_pairs", "100000");
   const std::string rays = ctx.param("intersection.rays", "20000");
   const std::string wt_formats = ctx.param("intersection.watertight_formats", "e5m10,e6m12,e7m16,e8m23");
-  const std::string synth_formats = ctx.param("intersection.synth_formats", "e7m16,e8m23");
+  const std::string synth_formats = ctx.param("intersection.synth_formats", "e5m10");
   const bool synth = ctx.param("intersection.synth", "1") != "0";
   const std::string seed = std::to_string(ctx.opts.seed);
   std::string md;
@@ -396,7 +396,7 @@ std::string noise_section(Context& ctx) {
   const std::string size = ctx.param("noise.size", "512");
   const std::string samples = ctx.param("noise.error_samples", "200000");
   const std::string range = ctx.param("noise.range_samples", "10000000");
-  const std::string stages = ctx.param("noise.stages", "0,1,2,3,4");
+  const std::string stages = ctx.param("noise.stages", "0,2,4");
   const bool synth = ctx.param("noise.synth", "1") != "0";
   std::vector<std::string> a{"--out", ctx.path("noise").string(), "--size", size, "--error-samples", samples,
                              "--range-samples", range, "--seed", std::to_string(ctx.opts.seed), "--quiet"};

@@ -138,17 +138,6 @@ struct Ctx {
 
 using SourceFn = std::function<std::unique_ptr<VectorSource>()>;
 
-void expect_clean(const std::string& name, const RunStats& st, std::uint64_t expect_checked) {
-  std::cerr << "[" << name << "] seed=" << global_options().seed << ": " << st.checked << " results checked in "
-            << st.cycles << " cycles (" << st.resets << " reset cycles, " << st.dropped << " re-issued), "
-            << st.seconds << " s\n";
-  EXPECT_TRUE(st.ok()) << st.errors.size() << " mismatch(es)" << (st.aborted ? " (stopped early)" : "")
-                       << "; first:\n"
-                       << (st.errors.empty() ? "" : st.errors.front().report);
-  if (!st.aborted) {
-    EXPECT_EQ(st.checked, expect_checked) << "every vector must be checked exactly once";
-  }
-}
 
 void add(const Ctx& c, const std::string& suite, const std::string& test, std::function<SourceFn(const Ctx&)> src,
          std::uint32_t reset_every = 3000) {
@@ -291,61 +280,19 @@ SourceFn cell_source(const Ctx& c, bool full) {
   };
 }
 
+// The planted harness errors (tb/include/rayunits/tb/testing.hpp), plus a planted model error.
 void add_selftests(const Ctx& c) {
-  const std::string note = "(planted error: the MISMATCH report below is expected)\n";
-  register_test(c.suite, "inject_bitflip", [c, note] {
-    ScoreboardTest t = c.make("inject_bitflip");
-    t.source = random_source(c, 2000, "inject_bitflip");
-    expect_clean(t.name + " control", run_scoreboard(t), 2000);
-    Rng rng(c.seed("inject_bitflip"));
-    t.opt.inject.flip_item = 700;
-    t.opt.inject.flip_field = 0;
-    t.opt.inject.flip_bit = static_cast<int>(rng.below(c.fc.out_w));
-    std::cerr << note;
-    std::string trace;
-    const RunStats st = run_scoreboard(t, &trace);
-    ASSERT_EQ(st.errors.size(), 1u) << "exactly the planted error must be reported";
-    EXPECT_EQ(st.errors[0].kind, Mismatch::Data);
-    EXPECT_EQ(st.errors[0].item, 700);
-    EXPECT_NE(st.errors[0].report.find("<-- differs"), std::string::npos);
-    if (global_options().trace_on_fail) {
-      std::error_code ec;
-      EXPECT_GT(std::filesystem::file_size(trace, ec), 0u) << "no FST written: " << trace;
-    }
-  });
-  for (int delta : {+1, -1}) {
-    if (delta < 0 && c.stages == 0) continue;
-    const std::string name = delta > 0 ? "inject_latency_late" : "inject_latency_early";
-    register_test(c.suite, name, [c, note, delta, name] {
-      ScoreboardTest t = c.make(name);
-      t.source = random_source(c, 500, name);
-      expect_clean(t.name + " control", run_scoreboard(t), 500);
-      t.opt.inject.latency_delta = delta;
-      std::cerr << note;
-      const RunStats st = run_scoreboard(t);
-      ASSERT_FALSE(st.errors.empty()) << "a one-cycle latency error went unnoticed";
-      EXPECT_EQ(st.errors[0].kind, delta > 0 ? Mismatch::UnexpectedValid : Mismatch::MissingValid);
-      EXPECT_TRUE(st.aborted);
-    });
-  }
-  if (c.stages > 0) {
-    register_test(c.suite, "inject_stale", [c, note] {
-      ScoreboardTest t = c.make("inject_stale");
-      t.source = random_source(c, 400, "inject_stale");
-      t.opt.traffic = Traffic::BackToBack;
-      t.opt.reset_every = 0;
-      t.opt.reset_at = {200};
-      expect_clean(t.name + " control", run_scoreboard(t), 400);
-      t.opt.inject.skip_reset = true;
-      std::cerr << note;
-      const RunStats st = run_scoreboard(t);
-      ASSERT_FALSE(st.errors.empty()) << "stale results after reset went unnoticed";
-      EXPECT_EQ(st.errors[0].kind, Mismatch::UnexpectedValid);
-      EXPECT_EQ(st.errors[0].cycle, 201u);
-    });
-  }
+  SelftestPlan p;
+  p.suite = c.suite;
+  p.stages = c.stages;
+  p.make = [c](const std::string& test) { return c.make(test); };
+  p.seed = [c](const std::string& test) { return c.seed(test); };
+  p.random = [c](const std::string& test, uint64_t n) { return random_source(c, n, test); };
+  p.out_bits = {c.fc.out_w};
+  add_harness_selftests(p);
   // A planted model error: the RTL against a model whose gradient table has one component off
   // by one LSB must mismatch (the scoreboard sees table errors, not only output bit flips).
+  const std::string note = "(planted error: the MISMATCH report below is expected)\n";
   register_test(c.suite, "inject_table", [c, note] {
     ScoreboardTest t = c.make("inject_table");
     t.source = random_source(c, 3000, "inject_table");

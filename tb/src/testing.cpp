@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <iostream>
 #include <random>
+#include <sstream>
 
 namespace ru::tb {
 
@@ -247,6 +248,90 @@ RunStats run_scoreboard(const ScoreboardTest& t, std::string* trace_file) {
     if (trace_file) *trace_file = r.trace_path;
   }
   return st;
+}
+
+std::string run_summary(const RunStats& st) {
+  std::ostringstream os;
+  os << st.checked << " results checked in " << st.cycles << " cycles (" << st.issued << " issued, "
+     << st.resets << " reset cycles, " << st.dropped << " dropped by reset and re-issued), "
+     << st.seconds << " s";
+  return os.str();
+}
+
+void expect_clean(const std::string& name, const RunStats& st, uint64_t expect_checked) {
+  std::cerr << "[" << name << "] seed=" << global_options().seed << ": " << run_summary(st) << "\n";
+  EXPECT_TRUE(st.ok()) << st.errors.size() << " mismatch(es)" << (st.aborted ? " (stopped early)" : "")
+                       << "; first:\n"
+                       << (st.errors.empty() ? "" : st.errors.front().report);
+  if (!st.aborted) {
+    EXPECT_EQ(st.checked, expect_checked) << "every vector must be checked exactly once";
+  }
+}
+
+void add_harness_selftests(const SelftestPlan& p) {
+  const std::string note = "(planted error: the MISMATCH report below is expected)\n";
+  register_test(p.suite, "inject_bitflip", [p, note] {
+    ScoreboardTest t = p.make("inject_bitflip");
+    t.source = p.random("inject_bitflip", 2000);
+    expect_clean(t.name + " control", run_scoreboard(t), 2000);
+    Rng rng(p.seed("inject_bitflip"));
+    t.opt.inject.flip_item = 700;
+    t.opt.inject.flip_field = static_cast<int>(rng.below(p.out_bits.size()));
+    t.opt.inject.flip_bit = static_cast<int>(rng.below(static_cast<uint64_t>(p.out_bits[t.opt.inject.flip_field])));
+    std::cerr << note;
+    std::string trace;
+    const RunStats st = run_scoreboard(t, &trace);
+    ASSERT_EQ(st.errors.size(), 1u) << "exactly the planted error must be reported";
+    const Mismatch& m = st.errors[0];
+    EXPECT_EQ(m.kind, Mismatch::Data);
+    EXPECT_EQ(m.item, 700);
+    EXPECT_EQ(m.field_mask, 1u << t.opt.inject.flip_field);
+    EXPECT_NE(m.report.find("seed="), std::string::npos);
+    EXPECT_NE(m.report.find("<-- differs"), std::string::npos);
+    if (global_options().trace_on_fail) {
+      std::error_code ec;
+      EXPECT_GT(std::filesystem::file_size(trace, ec), 0u) << "no FST written: " << trace;
+    }
+  });
+  for (int delta : {+1, -1}) {
+    if (delta < 0 && p.stages == 0) continue;
+    const std::string name = delta > 0 ? "inject_latency_late" : "inject_latency_early";
+    register_test(p.suite, name, [p, note, delta, name] {
+      ScoreboardTest t = p.make(name);
+      t.source = p.random(name, 500);
+      expect_clean(t.name + " control", run_scoreboard(t), 500);
+      t.opt.inject.latency_delta = delta;
+      std::cerr << note;
+      const RunStats st = run_scoreboard(t);
+      ASSERT_FALSE(st.errors.empty()) << "a one-cycle latency error went unnoticed";
+      // Late expectation: the DUT's first result arrives one cycle before it is expected.
+      // Early expectation: the first expected result finds out_valid_o = 0.
+      EXPECT_EQ(st.errors[0].kind, delta > 0 ? Mismatch::UnexpectedValid : Mismatch::MissingValid);
+      EXPECT_TRUE(st.aborted) << "the harness must stop after --max-errors mismatches";
+      EXPECT_EQ(st.errors.size(), static_cast<size_t>(global_options().max_errors));
+    });
+  }
+  if (p.stages > 0) {
+    register_test(p.suite, "inject_stale", [p, note] {
+      ScoreboardTest t = p.make("inject_stale");
+      t.source = p.random("inject_stale", 400);
+      t.opt.traffic = Traffic::BackToBack;  // the pipeline is full when reset comes
+      t.opt.reset_every = 0;
+      t.opt.reset_at = {200};
+      const RunStats ctl = run_scoreboard(t);
+      expect_clean(t.name + " control", ctl, 400);
+      EXPECT_GE(ctl.dropped, static_cast<uint64_t>(p.stages - 1)) << "reset did not hit a full pipeline";
+      // Planted: the harness drops its expectations at the reset but rst_ni stays high, i.e. a
+      // DUT whose reset does not clear its pipeline. Its in-flight results are stale.
+      t.opt.inject.skip_reset = true;
+      std::cerr << note;
+      const RunStats st = run_scoreboard(t);
+      ASSERT_FALSE(st.errors.empty()) << "stale results after reset went unnoticed";
+      EXPECT_EQ(st.errors[0].kind, Mismatch::UnexpectedValid);
+      EXPECT_EQ(st.errors[0].cycle, 201u);
+      EXPECT_NE(st.errors[0].report.find("last reset in cycle 200"), std::string::npos);
+    });
+  }
 }
 
 }  // namespace ru::tb

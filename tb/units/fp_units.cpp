@@ -25,24 +25,6 @@ using ru::num::Format;
 constexpr uint64_t kFastRandom = 20000;
 constexpr uint64_t kLongRandom = 1000000;
 
-std::string summary(const RunStats& st) {
-  std::ostringstream os;
-  os << st.checked << " results checked in " << st.cycles << " cycles (" << st.issued << " issued, "
-     << st.resets << " reset cycles, " << st.dropped << " dropped by reset and re-issued), "
-     << st.seconds << " s";
-  return os.str();
-}
-
-void expect_clean(const std::string& name, const RunStats& st, uint64_t expect_checked) {
-  std::cerr << "[" << name << "] seed=" << global_options().seed << ": " << summary(st) << "\n";
-  EXPECT_TRUE(st.ok()) << st.errors.size() << " mismatch(es)" << (st.aborted ? " (stopped early)" : "")
-                       << "; first:\n"
-                       << (st.errors.empty() ? "" : st.errors.front().report);
-  if (!st.aborted) {
-    EXPECT_EQ(st.checked, expect_checked) << "every vector must be checked exactly once";
-  }
-}
-
 struct Ctx {
   const ConfigDesc* cfg;
   const FpUnitSpec* spec;
@@ -80,81 +62,21 @@ void add_random(const Ctx& c, const std::string& suite, const std::string& test,
   });
 }
 
-// The planted-error tests: a clean control run, then the same run with one planted error that
-// the harness must report (at the right cycle, with the right kind).
+// The planted-error tests (tb/include/rayunits/tb/testing.hpp): y_o or flags_o bit flips.
 void add_selftests(const Ctx& c) {
-  const std::string note = "(planted error: the MISMATCH report below is expected)\n";
-  register_test(c.suite, "inject_bitflip", [c, note] {
-    ScoreboardTest t = c.make("inject_bitflip");
-    const uint64_t seed = c.seed("inject_bitflip");
+  SelftestPlan p;
+  p.suite = c.suite;
+  p.stages = c.stages;
+  p.make = [c](const std::string& test) { return c.make(test); };
+  p.seed = [c](const std::string& test) { return c.seed(test); };
+  p.random = [c](const std::string& test, uint64_t n) {
     const FpUnitSpec* s = c.spec;
     const Format f = c.f;
-    t.source = [s, f, seed] { return fp_random_source(*s, f, seed, 2000); };
-    expect_clean(t.name + " control", run_scoreboard(t), 2000);
-    Rng rng(seed);
-    t.opt.inject.flip_item = 700;
-    t.opt.inject.flip_field = static_cast<int>(rng.below(2));  // y_o or flags_o
-    t.opt.inject.flip_bit = static_cast<int>(rng.below(t.opt.inject.flip_field == 0 ? f.width() : 5));
-    std::cerr << note;
-    std::string trace;
-    const RunStats st = run_scoreboard(t, &trace);
-    ASSERT_EQ(st.errors.size(), 1u) << "exactly the planted error must be reported";
-    const Mismatch& m = st.errors[0];
-    EXPECT_EQ(m.kind, Mismatch::Data);
-    EXPECT_EQ(m.item, 700);
-    EXPECT_EQ(m.field_mask, 1u << t.opt.inject.flip_field);
-    EXPECT_NE(m.report.find("seed="), std::string::npos);
-    EXPECT_NE(m.report.find("<-- differs"), std::string::npos);
-    if (global_options().trace_on_fail) {
-      std::error_code ec;
-      EXPECT_GT(std::filesystem::file_size(trace, ec), 0u) << "no FST written: " << trace;
-    }
-  });
-  for (int delta : {+1, -1}) {
-    if (delta < 0 && c.stages == 0) continue;
-    const std::string name = delta > 0 ? "inject_latency_late" : "inject_latency_early";
-    register_test(c.suite, name, [c, note, delta, name] {
-      ScoreboardTest t = c.make(name);
-      const uint64_t seed = c.seed(name);
-      const FpUnitSpec* s = c.spec;
-      const Format f = c.f;
-      t.source = [s, f, seed] { return fp_random_source(*s, f, seed, 500); };
-      expect_clean(t.name + " control", run_scoreboard(t), 500);
-      t.opt.inject.latency_delta = delta;
-      std::cerr << note;
-      const RunStats st = run_scoreboard(t);
-      ASSERT_FALSE(st.errors.empty()) << "a one-cycle latency error went unnoticed";
-      // Late expectation: the DUT's first result arrives one cycle before it is expected.
-      // Early expectation: the first expected result finds out_valid_o = 0.
-      EXPECT_EQ(st.errors[0].kind, delta > 0 ? Mismatch::UnexpectedValid : Mismatch::MissingValid);
-      EXPECT_TRUE(st.aborted) << "the harness must stop after --max-errors mismatches";
-      EXPECT_EQ(st.errors.size(), static_cast<size_t>(global_options().max_errors));
-    });
-  }
-  if (c.stages > 0) {
-    register_test(c.suite, "inject_stale", [c, note] {
-      ScoreboardTest t = c.make("inject_stale");
-      const uint64_t seed = c.seed("inject_stale");
-      const FpUnitSpec* s = c.spec;
-      const Format f = c.f;
-      t.source = [s, f, seed] { return fp_random_source(*s, f, seed, 400); };
-      t.opt.traffic = Traffic::BackToBack;  // the pipeline is full when reset comes
-      t.opt.reset_every = 0;
-      t.opt.reset_at = {200};
-      const RunStats ctl = run_scoreboard(t);
-      expect_clean(t.name + " control", ctl, 400);
-      EXPECT_GE(ctl.dropped, static_cast<uint64_t>(c.stages - 1)) << "reset did not hit a full pipeline";
-      // Planted: the harness drops its expectations at the reset but rst_ni stays high, i.e. a
-      // DUT whose reset does not clear its pipeline. Its in-flight results are stale.
-      t.opt.inject.skip_reset = true;
-      std::cerr << note;
-      const RunStats st = run_scoreboard(t);
-      ASSERT_FALSE(st.errors.empty()) << "stale results after reset went unnoticed";
-      EXPECT_EQ(st.errors[0].kind, Mismatch::UnexpectedValid);
-      EXPECT_EQ(st.errors[0].cycle, 201u);
-      EXPECT_NE(st.errors[0].report.find("last reset in cycle 200"), std::string::npos);
-    });
-  }
+    const uint64_t seed = c.seed(test);
+    return std::function<std::unique_ptr<VectorSource>()>([s, f, seed, n] { return fp_random_source(*s, f, seed, n); });
+  };
+  p.out_bits = {c.f.width(), 5};
+  add_harness_selftests(p);
 }
 
 // Vector files: tb/vectors/<unit>*.txt (format must match, or no format line) and --vector-file.

@@ -13,6 +13,7 @@ const char* const kFlowOptionsHelp =
     "  --no-ice40          skip synth_ice40 LUT counts\n"
     "  --no-xilinx         skip synth_xilinx LUT/DSP counts\n"
     "  --generic-only      skip both FPGA flows (generic gates only)\n"
+    "  --no-share          synth -noshare: no resource sharing (the ray-triangle units always)\n"
     "  --rtl DIR           RTL source directory (default <repo>/rtl or $RU_RTL_DIR)\n"
     "  --yosys PATH        yosys binary (default: yosys on PATH)\n"
     "  --nextpnr PATH      nextpnr-ice40 binary (default: on PATH)\n"
@@ -67,6 +68,8 @@ bool parse_flow_option(ArgCursor& a, FlowOptions& o) {
     o.ice40 = o.pnr = false;
   else if (k == "--no-xilinx")
     o.xilinx = false;
+  else if (k == "--no-share")
+    o.share = false;
   else if (k == "--generic-only")
     o.ice40 = o.pnr = o.xilinx = false;
   else if (k == "--timeout")

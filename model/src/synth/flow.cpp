@@ -242,10 +242,11 @@ double nand2_weight(const std::string& t) {
 
 bool is_flop_cell(const std::string& t) { return flop_kind(t).flop; }
 
-std::string generic_script(const std::vector<std::string>& sources, const std::string& top, bool measure) {
+std::string generic_script(const std::vector<std::string>& sources, const std::string& top, bool measure,
+                           bool share) {
   std::string s = read_sources(sources);
   s += "hierarchy -check -top " + top + "\n";
-  s += "synth -flatten -top " + top + "\n";
+  s += std::string("synth -flatten") + (share ? "" : " -noshare") + " -top " + top + "\n";
   s += "check -assert\n";
   if (measure) {
     s += "tee -q -o stat.json stat -json\n";
@@ -283,6 +284,7 @@ SynthResult run_flow(const std::vector<std::string>& sources, const std::string&
   SynthResult r;
   r.top = top;
   r.yosys_version = yosys_version(o.yosys);
+  r.share = o.share;
   const std::string yosys = find_program(o.yosys);
   std::string nextpnr;
   if (o.pnr) {
@@ -296,7 +298,7 @@ SynthResult run_flow(const std::vector<std::string>& sources, const std::string&
 
   // 1. Generic gates: area, transistors, registers, depth of the worst stage.
   r.step_seconds["generic"] =
-      run_yosys(yosys, "generic", generic_script(abs_sources, top, true), dir, "generic", o.timeout_s);
+      run_yosys(yosys, "generic", generic_script(abs_sources, top, true, o.share), dir, "generic", o.timeout_s);
   GenericResult& g = r.generic;
   g.cells = stat_cells(dir + "/stat.json", top);
   for (const auto& [t, n] : g.cells) {
@@ -436,8 +438,10 @@ SynthResult run_synth(const UnitSpec& u, const UnitConfig& c, const FlowOptions&
   write_file_atomic(tmp.path() + "/" + top + ".sv", wrapper_verilog(u, c));
   sources.push_back(tmp.path() + "/" + top + ".sv");
   SynthResult r;
+  FlowOptions fo = o;
+  fo.share = o.share && u.synth_share;
   try {
-    r = run_flow(sources, top, ports_for(u, c), tmp.path(), o);
+    r = run_flow(sources, top, ports_for(u, c), tmp.path(), fo);
   } catch (const ToolError&) {
     tmp.keep();  // the message names a log inside it
     throw;
@@ -485,6 +489,7 @@ json to_json(const SynthResult& r) {
   j["stage_delay_ps"] = g.stage_ps;
   j["fmax_est_mhz"] = std::round(g.fmax_mhz * 10) / 10;
   j["delay_model"] = DelayModel::kName;
+  j["resource_sharing"] = r.share;
   if (r.ice40.run) {
     const auto& ic = r.ice40;
     json i;
@@ -568,7 +573,8 @@ std::string format_table(const SynthResult& r) {
                           std::to_string(x.muxf) + " MUXF7/8" +
                           (x.srls ? ", " + std::to_string(x.srls) + " SRL" : std::string()));
   }
-  row("yosys", r.yosys_version + ", " + fmt_num(r.seconds, 1) + " s");
+  row("yosys", r.yosys_version + ", " + fmt_num(r.seconds, 1) + " s" +
+                   (r.share ? std::string() : ", synth -noshare (no resource sharing)"));
   if (!r.temp_dir.empty()) row("kept", r.temp_dir);
   return o.str();
 }

@@ -183,6 +183,7 @@ std::vector<UnitSpec> make_units() {
                        : "ray-triangle test, Moller-Trumbore (Kensler Eq. 3.2)";
     s.filelist = s.top + ".f";
     s.sources = {s.top + ".sv"};
+    s.synth_share = false;
     s.params = fp_params();
     if (robust) s.extra_params.push_back({"OptTieBreak", 0, 0, 1, "Fig. 3.6's zero-volume tie-break"});
     s.extra_params.push_back({"OptEpsTest", 0, 0, 1, "miss when |V| < eps"});

@@ -19,6 +19,9 @@ struct FlowOptions {
   bool ice40 = true;                  // synth_ice40 LUT counts
   bool xilinx = true;                 // synth_xilinx LUT/DSP counts
   bool pnr = false;                   // nextpnr-ice40 place & route for Fmax (slow)
+  // Yosys resource sharing (`share`, part of `synth`). Off for units whose UnitSpec says so:
+  // on the ray-triangle units its SAT search runs for hours (synth/README.md).
+  bool share = true;
   std::string ice40_device = "hx8k";  // hx8k or up5k
   int timeout_s = 0;                  // per tool run, 0 = none
   bool keep_temp = false;             // keep the temp directory (path in the result)
@@ -81,6 +84,7 @@ struct SynthResult {
   Ice40Result ice40;
   XilinxResult xilinx;
   std::string yosys_version;
+  bool share = true;                           // `synth` ran with resource sharing (else -noshare)
   std::string rtl_hash;                        // sources_hash() of what was synthesized (set by run_synth)
   double seconds = 0;                          // wall time of run_flow
   std::map<std::string, double> step_seconds;  // generic, ice40, ice40_harness, nextpnr, xilinx
@@ -98,7 +102,8 @@ SynthResult run_flow(const std::vector<std::string>& sources, const std::string&
 
 // The Yosys script of the generic gate-level flow (what `gen` writes as synth.ys when given
 // bare file names). With measure=true it also writes stat.json / cmos.txt / ltp.txt.
-std::string generic_script(const std::vector<std::string>& sources, const std::string& top, bool measure);
+std::string generic_script(const std::vector<std::string>& sources, const std::string& top, bool measure,
+                           bool share = true);
 
 std::string yosys_version(const std::string& yosys);  // "Yosys 0.23 (git sha1 ...)"; throws if missing
 

@@ -78,6 +78,9 @@ struct UnitSpec {
   // Formats the RTL accepts (on top of num::Format's own range check).
   int min_exp = num::Format::kMinExp, max_exp = num::Format::kMaxExp;
   int min_frac = num::Format::kMinFrac, max_frac = num::Format::kMaxFrac;
+  // false: the generic flow runs `synth -noshare` (Yosys' SAT-based resource sharing takes
+  // hours on the ray-triangle units; it only merges mutually exclusive shifters/adders).
+  bool synth_share = true;
   // Further constraints between parameters; throws SynthError. May be empty.
   std::function<void(const UnitConfig&)> check;
 };

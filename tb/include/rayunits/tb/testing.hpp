@@ -60,6 +60,31 @@ struct ScoreboardTest {
 RunOptions make_options(const ConfigDesc& cfg, const std::string& test_name);
 RunStats run_scoreboard(const ScoreboardTest& t, std::string* trace_file = nullptr);
 
+// "N results checked in C cycles (...)" for progress lines.
+std::string run_summary(const RunStats& st);
+
+// The verdict of a run without planted errors: no mismatch and (unless it stopped early)
+// every one of expect_checked vectors checked exactly once; prints a summary line to stderr.
+void expect_clean(const std::string& name, const RunStats& st, uint64_t expect_checked);
+
+// The planted harness errors every unit's "selftest" configurations must catch. Each test is
+// a clean control run, then the same run with one planted error that must be reported with
+// the right kind at the right place:
+//   inject_bitflip                 one bit of a random output field of expected item 700
+//   inject_latency_late / _early   expectations one cycle late / early (early: Stages > 0)
+//   inject_stale                   a reset at cycle 200 that the DUT does not see (Stages > 0):
+//                                  its in-flight results are stale
+struct SelftestPlan {
+  std::string suite;
+  int stages = 0;
+  std::function<ScoreboardTest(const std::string& test)> make;  // test name -> test
+  // test name, count -> a factory of `count` random vectors seeded from the test name
+  std::function<std::function<std::unique_ptr<VectorSource>()>(const std::string& test, uint64_t n)> random;
+  std::vector<int> out_bits;  // width of each output field (bit flips land in one of them)
+  std::function<uint64_t(const std::string& test)> seed;
+};
+void add_harness_selftests(const SelftestPlan& p);
+
 // Vector-count helper: --vectors if given, else the configuration's n=<count> tag, else def.
 uint64_t vector_count(const ConfigDesc& cfg, uint64_t def);
 
