@@ -175,20 +175,53 @@ class Tracer {
     return res.hit;
   }
 
-  // Traversal: an interior node tests both children's boxes and pushes the hit ones, the
-  // child on the ray's side of the split axis on top; a node popped later is skipped when its
-  // entry lies beyond the closest hit found meanwhile (one comparison in T).
-  int64_t intersect_impl(const Ray& r, const T& tmin, T& tmax, bool any) {
+  // Traversal: an interior node tests both children's boxes; of two hit children the one on
+  // the ray's side of the split axis is visited next and the other is pushed; a node popped
+  // later is skipped when its entry lies beyond the closest hit found meanwhile (one
+  // comparison in T). The child visited next is kept in a register instead of being pushed
+  // and popped at once (the same order and the same operations: it gets the same skip test,
+  // which cannot succeed, as a hit box has t_enter <= t_exit <= tmax and tmax has not changed
+  // since its test).
+  int64_t intersect_impl(const Ray& ray, const T& tmin_in, T& tmax_out, bool any) {
+    // Local copies (stores to the stack cannot alias them: the ray stays in registers);
+    // tmax_out is updated together with tmax.
+    const Ray r = ray;
+    const T tmin = tmin_in;
+    T tmax = tmax_out;
     int64_t hit = -1;
     size_t sp = 0;
     T te;
     if (!box_test(r, P.nodes[P.root], tmin, tmax, &te)) return -1;
-    stack_[sp++] = {P.root, te};
-    while (sp) {
-      const Entry e = stack_[--sp];
-      if (hit >= 0 && tmax < e.t_enter) continue;
-      const NodeT<T>& n = P.nodes[e.node];
-      if (n.left < 0) {
+    int32_t node = P.root;  // next node to visit (its box was hit)
+    for (;;) {
+      const NodeT<T>& n = P.nodes[node];
+      if (n.left >= 0) {
+        T tl, tr;
+        const bool hl = box_test(r, P.nodes[n.left], tmin, tmax, &tl);
+        const bool hr = box_test(r, P.nodes[n.right], tmin, tmax, &tr);
+        if (hl || hr) {
+          T t_next;
+          if (hl && hr) {
+            // Visit order from the node's split axis and the sign of the ray direction along
+            // it (Mirth's signs[axis]; after rotations the axis comes from reorder_children, §5.5).
+            if (num::fp_signbit(r.d[n.axis])) {
+              stack_[sp++] = {n.left, tl};
+              node = n.right;
+              t_next = tr;
+            } else {
+              stack_[sp++] = {n.right, tr};
+              node = n.left;
+              t_next = tl;
+            }
+          } else {
+            node = hl ? n.left : n.right;
+            t_next = hl ? tl : tr;
+          }
+          // The check a popped entry gets (never true here, see above; kept so that the
+          // sequence of operations, e.g. Soft comparisons counted in SoftStats, is unchanged).
+          if (!(hit >= 0 && tmax < t_next)) continue;
+        }
+      } else {
         for (uint32_t i = n.first; i < n.first + n.count; ++i) {
           const TriT<T>& t = P.tris[i];
           ++cnt.tri;
@@ -214,32 +247,21 @@ class Tracer {
           }
           if (h) {
             tmax = th;
+            tmax_out = th;
             hit = i;
             if (any) return hit;
           }
         }
-        continue;
       }
-      T tl, tr;
-      const bool hl = box_test(r, P.nodes[n.left], tmin, tmax, &tl);
-      const bool hr = box_test(r, P.nodes[n.right], tmin, tmax, &tr);
-      if (hl && hr) {
-        // Visit order from the node's split axis and the sign of the ray direction along it
-        // (Mirth's signs[axis]; after rotations the axis comes from reorder_children, §5.5).
-        if (num::fp_signbit(r.d[n.axis])) {
-          stack_[sp++] = {n.left, tl};
-          stack_[sp++] = {n.right, tr};
-        } else {
-          stack_[sp++] = {n.right, tr};
-          stack_[sp++] = {n.left, tl};
-        }
-      } else if (hl) {
-        stack_[sp++] = {n.left, tl};
-      } else if (hr) {
-        stack_[sp++] = {n.right, tr};
+      // Next: the top of the stack, skipping entries beyond the closest hit.
+      for (;;) {
+        if (sp == 0) return hit;
+        --sp;
+        if (hit >= 0 && tmax < stack_[sp].t_enter) continue;
+        node = stack_[sp].node;
+        break;
       }
     }
-    return hit;
   }
 
   T noise_at(const Vec3<T>& q) {

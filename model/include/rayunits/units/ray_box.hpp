@@ -34,6 +34,14 @@
 // the wrong infinity (proof in docs/UNITS.md; property tests in tests/units).
 #pragma once
 
+#include <algorithm>
+#include <cstring>
+#include <limits>
+#include <type_traits>
+#if defined(__SSE__)
+#include <xmmintrin.h>
+#endif
+
 #include "rayunits/num/fp.hpp"
 #include "rayunits/units/vec.hpp"
 
@@ -64,8 +72,11 @@ T ftz_bound(T x, uint8_t flags, ru::num::Round r) {
   return x;
 }
 
+// The golden model exactly as specified above, for every T (the reference of the fast path
+// below; ray_box() calls it for Soft, for conservative mode and whenever the fast path sees
+// a NaN).
 template <class T>
-BoxResult<T> ray_box(const Vec3<T>& o, const Vec3<T>& inv, const Vec3<T>& lo, const Vec3<T>& hi,
+BoxResult<T> ray_box_reference(const Vec3<T>& o, const Vec3<T>& inv, const Vec3<T>& lo, const Vec3<T>& hi,
                      T t_min, T t_max, BoxMode mode = BoxMode::Plain) {
   using namespace ru::num;
   BoxResult<T> r;
@@ -98,6 +109,103 @@ BoxResult<T> ray_box(const Vec3<T>& o, const Vec3<T>& inv, const Vec3<T>& lo, co
   r.t_enter = fp_canon(r.t_enter);
   r.t_exit = fp_canon(r.t_exit);
   return r;
+}
+
+namespace detail {
+
+// Fast path for native float/double in plain mode; returns false (r not set) when any of
+// tn_x..tf_z, t_min or t_max is a NaN or t_enter or t_exit would be a zero, and the golden
+// model above then runs. Otherwise it
+// gives the golden model's bits, for these reasons:
+//   * tn_k and tf_k are the same two IEEE operations per value in the same order (4 lanes of
+//     a vector = 4 independent scalar operations; -ffp-contract=off, no FMA);
+//   * no NaN among the six products means no NaN input: each of o_k, inv_k, lo_k and hi_k
+//     enters one of them, and sub/mul propagate a NaN (t_min, t_max are checked directly);
+//     so any_nan = false and no min/max operand is a NaN;
+//   * on non-NaN values minNum/maxNum are the minimum/maximum in the total order with
+//     -0 < +0 (fp.hpp native_minmax), which is associative: the chains equal the plain
+//     min/max over the four values. A nonzero extreme value has one bit pattern, so
+//     "a > b ? a : b" (any order) gives the same bits; only a zero extreme could differ
+//     (+0 vs -0), and then the golden model runs;
+//   * hit uses the same float comparisons; fp_canon is the identity without NaNs.
+// t_min / t_max ride in lane 3: (t - 0) * 1 == t exactly (also -0 - +0 = -0 in RNE).
+template <class T, class I>
+inline bool ray_box_native_plain(const Vec3<T>& o, const Vec3<T>& inv, const Vec3<T>& lo, const Vec3<T>& hi,
+                                 T t_min, T t_max, BoxResult<T>& r) {
+  static_assert(sizeof(T) == sizeof(I), "key type");
+  typedef T VT __attribute__((vector_size(4 * sizeof(T))));
+  typedef I VI __attribute__((vector_size(4 * sizeof(T))));
+  const VT vo = {o.x, o.y, o.z, T(0)};
+  const VT vi = {inv.x, inv.y, inv.z, T(1)};
+  const VT vlo = {lo.x, lo.y, lo.z, t_min}, vhi = {hi.x, hi.y, hi.z, t_max};
+  // Sign bit of inv_k (lane 3: inv = +1, so near = t_min, far = t_max).
+  VI neg;
+  std::memcpy(&neg, &vi, sizeof neg);
+  neg = neg >> (8 * static_cast<int>(sizeof(T)) - 1);  // all ones when the sign bit is set
+  VI blo, bhi;
+  std::memcpy(&blo, &vlo, sizeof blo);
+  std::memcpy(&bhi, &vhi, sizeof bhi);
+  const VI bnear = (bhi & neg) | (blo & ~neg), bfar = (blo & neg) | (bhi & ~neg);
+  VT near_plane, far_plane;
+  std::memcpy(&near_plane, &bnear, sizeof near_plane);
+  std::memcpy(&far_plane, &bfar, sizeof far_plane);
+  const VT tn = (near_plane - vo) * vi;
+  const VT tf = (far_plane - vo) * vi;
+  // Horizontal maximum of tn and minimum of tf (lane 3: t_min / t_max): a > b ? a : b is the
+  // exact maximum of two non-NaN values except for a +0/-0 pair, so a zero result is left
+  // to the golden model (its sign is the only thing that could differ).
+  VT s = __builtin_shufflevector(tn, tn, 2, 3, 0, 1);
+  VT en = tn > s ? tn : s;
+  s = __builtin_shufflevector(en, en, 1, 0, 3, 2);
+  en = en > s ? en : s;
+  s = __builtin_shufflevector(tf, tf, 2, 3, 0, 1);
+  VT ex = tf < s ? tf : s;
+  s = __builtin_shufflevector(ex, ex, 1, 0, 3, 2);
+  ex = ex < s ? ex : s;
+  // Any NaN among the eight lanes, or a zero t_enter / t_exit: golden model.
+  bool nan;
+#if defined(__SSE__)
+  if constexpr (sizeof(T) == 4) {
+    nan = _mm_movemask_ps(_mm_cmpunord_ps(tn, tf)) != 0;  // one compare for both vectors
+  } else
+#endif
+  {
+    VI bad = (tn != tn) | (tf != tf);
+    bad |= __builtin_shufflevector(bad, bad, 2, 3, 0, 1);
+    bad |= __builtin_shufflevector(bad, bad, 1, 0, 3, 2);
+    nan = bad[0] != 0;
+  }
+  if (nan | (en[0] == T(0)) | (ex[0] == T(0))) return false;
+  r.t_enter = en[0];
+  r.t_exit = ex[0];
+  r.hit = r.t_enter <= r.t_exit && r.t_enter != std::numeric_limits<T>::infinity() &&
+          r.t_exit != -std::numeric_limits<T>::infinity();
+  return true;
+}
+
+// Out of line, result through a pointer: keeps the inlined fast path's result in registers.
+template <class T>
+__attribute__((noinline)) void ray_box_slow(const Vec3<T>& o, const Vec3<T>& inv, const Vec3<T>& lo,
+                                            const Vec3<T>& hi, T t_min, T t_max, BoxMode mode, BoxResult<T>* r) {
+  *r = ray_box_reference(o, inv, lo, hi, t_min, t_max, mode);
+}
+
+}  // namespace detail
+
+// The unit: the golden model above; native float/double in plain mode take the bit-identical
+// fast path (detail::ray_box_native_plain) unless a NaN shows up.
+template <class T>
+BoxResult<T> ray_box(const Vec3<T>& o, const Vec3<T>& inv, const Vec3<T>& lo, const Vec3<T>& hi,
+                     T t_min, T t_max, BoxMode mode = BoxMode::Plain) {
+  if constexpr (std::is_same_v<T, float> || std::is_same_v<T, double>) {
+    using I = std::conditional_t<std::is_same_v<T, float>, int32_t, int64_t>;
+    BoxResult<T> r;
+    if (mode == BoxMode::Plain && detail::ray_box_native_plain<T, I>(o, inv, lo, hi, t_min, t_max, r)) return r;
+    detail::ray_box_slow(o, inv, lo, hi, t_min, t_max, mode, &r);
+    return r;
+  } else {
+    return ray_box_reference(o, inv, lo, hi, t_min, t_max, mode);
+  }
 }
 
 }  // namespace ru::units

@@ -72,9 +72,49 @@ inline bool mul_fast(const C& c, uint64_t a, uint64_t b, Result& out) {
   return true;
 }
 
+// M <= 29: the significands are aligned high in a 64-bit word (leading one at bit 62, so
+// L = 62 - M >= M + 33 zero bits below the smaller operand's last bit). A right shift by the
+// exponent difference d <= L is then exact; for d > L the shifted value is below 2^M, far
+// under the result's half-ulp (>= 2^(L-2) even after a one-bit cancellation), so it is
+// replaced by any nonzero value below 2^M (the shifted bits with bit 0 forced to one): no
+// rounding boundary lies between the two, so q, the round decision and inexact are the same.
+// The result is normalised with one count-leading-zeros and constant shifts; the dropped bits
+// end up left-aligned in `rem` (half-way = 2^63).
+template <class C>
+inline bool add_fast_narrow(const C& c, uint64_t a, uint64_t b, Result& out) {
+  const int M = c.M;
+  const int L = 62 - M;
+  const uint64_t sign = 1ull << (M + c.E), mag = sign - 1, emask = (1ull << c.E) - 1;
+  const uint64_t hidden = 1ull << M, fmask = hidden - 1, inf = emask << M;
+  const uint64_t am = a & mag, bm = b & mag;
+  // Magnitude order as selects (no branch to mispredict on random operands).
+  const bool swap = am < bm;
+  const uint64_t hi = swap ? bm : am, lo = swap ? am : bm;
+  if (hi >= inf || lo < hidden) return false;  // both normal (lo <= hi)
+  const uint64_t s = (swap ? b : a) & sign;    // sign of the larger magnitude
+  const uint64_t ea = hi >> M, d = ea - (lo >> M);
+  const uint64_t X = ((hi & fmask) | hidden) << L;
+  const uint64_t Yb = ((lo & fmask) | hidden) << L;
+  const uint64_t Y = (Yb >> (d > 63 ? 63 : d)) | static_cast<uint64_t>(d > static_cast<uint64_t>(L));
+  // X + Y (< 2^64) or X - Y: a conditional negation of Y (m = all ones for a subtraction).
+  const uint64_t m = -(((a ^ b) >> (M + c.E)) & 1);
+  const uint64_t S = X + ((Y ^ m) - m);
+  if (S == 0) return false;  // exact zero: its sign depends on the mode (general path)
+  const int lz = __builtin_clzll(S);  // 0 (carry), 1, or more after a cancellation
+  const uint64_t N = S << lz;           // leading one at bit 63
+  const int64_t e = static_cast<int64_t>(ea) + 1 - lz;  // biased, before rounding
+  if (e <= 0 || e >= static_cast<int64_t>(emask) - 1) return false;
+  const uint64_t q = N >> (63 - M), rem = N << (M + 1);
+  const uint64_t up = round_inc(c.rm, s != 0, q, rem, 1ull << 63);
+  out.bits = s | ((static_cast<uint64_t>(e - 1) << M) + q + up);
+  out.flags = static_cast<uint8_t>(rem != 0) * kInexact;
+  return true;
+}
+
 template <class C>
 inline bool add_fast(const C& c, uint64_t a, uint64_t b, Result& out) {
   const int M = c.M;
+  if (M <= 29) return add_fast_narrow(c, a, b, out);
   if (M > 44) return false;
   const uint64_t sign = 1ull << (M + c.E), mag = sign - 1, emask = (1ull << c.E) - 1;
   if ((a & mag) < (b & mag)) std::swap(a, b);  // |a| >= |b|
