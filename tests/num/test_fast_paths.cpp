@@ -10,28 +10,24 @@
 #include <string>
 
 #include "rayunits/num/format.hpp"
+#include "rayunits/units/synthetic.hpp"  // Rng (splitmix64)
 
 namespace ru::num {
 namespace {
 
-uint64_t splitmix(uint64_t& s) {
-  uint64_t z = (s += 0x9e3779b97f4a7c15ull);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  return z ^ (z >> 31);
-}
+using ru::units::Rng;
 
 // b: uniformly random, or with an exponent within 2 or M+7 of a's, or a's fraction with the
 // last three bits changed (massive cancellation).
-uint64_t partner(const Format& f, uint64_t a, uint64_t& s) {
-  const int kind = static_cast<int>(splitmix(s) % 4);
-  if (kind == 0) return splitmix(s) & f.mask();
+uint64_t partner(const Format& f, uint64_t a, Rng& s) {
+  const int kind = static_cast<int>(s.next() % 4);
+  if (kind == 0) return s.next() & f.mask();
   const int64_t ea = static_cast<int64_t>((a >> f.frac_bits) & f.exp_field_max());
   const int64_t span = kind == 1 ? 3 : f.frac_bits + 8;
-  int64_t eb = ea + static_cast<int64_t>(splitmix(s) % static_cast<uint64_t>(span)) * ((splitmix(s) & 1) ? 1 : -1);
+  int64_t eb = ea + static_cast<int64_t>(s.next() % static_cast<uint64_t>(span)) * ((s.next() & 1) ? 1 : -1);
   eb = std::max<int64_t>(0, std::min<int64_t>(eb, static_cast<int64_t>(f.exp_field_max())));
-  const uint64_t frac = kind == 3 ? ((a & f.frac_mask()) ^ (splitmix(s) & 7)) : (splitmix(s) & f.frac_mask());
-  return ((splitmix(s) & 1) ? f.sign_bit() : 0) | (static_cast<uint64_t>(eb) << f.frac_bits) | frac;
+  const uint64_t frac = kind == 3 ? ((a & f.frac_mask()) ^ (s.next() & 7)) : (s.next() & f.frac_mask());
+  return ((s.next() & 1) ? f.sign_bit() : 0) | (static_cast<uint64_t>(eb) << f.frac_bits) | frac;
 }
 
 struct Counts {
@@ -42,9 +38,9 @@ struct Counts {
 // add/sub (with their fast paths) in format f against add_general/sub_general in format g.
 Counts compare(const Format& f, const Format& g, uint64_t n, uint64_t seed) {
   Counts c;
-  uint64_t s = seed;
+  Rng s(seed);
   for (uint64_t i = 0; i < n; ++i) {
-    const uint64_t a = splitmix(s) & f.mask(), b = partner(f, a, s);
+    const uint64_t a = s.next() & f.mask(), b = partner(f, a, s);
     const Result x = add(f, a, b), y = detail::add_general(g, a, b);
     const Result u = sub(f, a, b), v = detail::sub_general(g, a, b);
     Result t;

@@ -102,17 +102,21 @@ Config default_config() {
   Config c;
   // latency, count per TM, width, area (NAND2-eq; docs/TRAX.md "Area model" says where each
   // number comes from: measured in this project's Yosys flow, or composed from measured parts)
-  c.unit(Unit::FpAdd) = {2, 4, 1, 3988};    // fp_add e8m23 Stages 3, measured (README)
-  c.unit(Unit::FpMul) = {2, 4, 1, 9619};    // fp_mul e8m23 Stages 3, measured (README)
-  c.unit(Unit::FpDiv) = {16, 1, 1, 19238};  // estimate: 2 x fp_mul
-  c.unit(Unit::FpSqrt) = {16, 1, 1, 19238}; // estimate: 2 x fp_mul
-  c.unit(Unit::FpCmp) = {1, 4, 1, 1000};    // estimate: a 32-bit magnitude comparator + muxes
+  // latency, count per TM, width, area (NAND2-eq). "synth" areas come from the area table
+  // model/data/trax/areas.json for the chip's format and the unit's Stages (docs/TRAX.md
+  // "Area model" says which rows are measured and which composed); "rtl" latencies are the
+  // RTL Stages derived by rtl_latency().
+  c.unit(Unit::FpAdd) = {2, 4, 1, kAreaSynth};
+  c.unit(Unit::FpMul) = {2, 4, 1, kAreaSynth};
+  c.unit(Unit::FpDiv) = {16, 1, 1, kAreaSynth};
+  c.unit(Unit::FpSqrt) = {16, 1, 1, kAreaSynth};  // no RTL: the area of fp_div
+  c.unit(Unit::FpCmp) = {1, 4, 1, kAreaSynth};
   c.unit(Unit::Conv) = {1, 2, 1, 1500};     // estimate: shifter + rounding
   c.unit(Unit::Int) = {1, 8, 1, 500};       // estimate: 32-bit adder + logic
   c.unit(Unit::Branch) = {1, 8, 1, 200};    // estimate
-  c.unit(Unit::Box) = {8, 2, 1, 87642};     // composed: 6 x (fp_add + fp_mul + fp_cmp)
-  c.unit(Unit::Tri) = {24, 1, 1, 604339};   // composed (robust): 43 fp_add + 39 fp_mul + 3 fp_div
-  c.unit(Unit::Noise) = {4, 1, 1, 63529};   // noise Stages 4, measured (docs/NOISE.md)
+  c.unit(Unit::Box) = {kLatencyRtl, 2, 1, kAreaSynth};
+  c.unit(Unit::Tri) = {kLatencyRtl, 1, 1, kAreaSynth};
+  c.unit(Unit::Noise) = {kLatencyRtl, 1, 1, kAreaSynth};
   return c;
 }
 
@@ -131,10 +135,15 @@ void Config::validate(const std::string& source) const {
   for (int i = 0; i < kUnits; ++i) {
     const UnitCfg& u = units[i];
     const std::string k = std::string("units.") + kUnitNames[i];
-    if (u.latency < 1) R.fail(k + ".latency", "must be >= 1");
+    const bool rtl_ok = i == static_cast<int>(Unit::Box) || i == static_cast<int>(Unit::Tri) ||
+                        i == static_cast<int>(Unit::Noise);
+    if (u.latency < 1 && !(u.latency == kLatencyRtl && rtl_ok))
+      R.fail(k + ".latency", rtl_ok ? "must be >= 1 or \"rtl\"" : "must be >= 1");
     if (u.count < 1) R.fail(k + ".count", "must be >= 1");
     if (u.width < 1) R.fail(k + ".width", "must be >= 1");
-    if (u.area < 0) R.fail(k + ".area", "must be >= 0");
+    const bool synth_ok = i <= static_cast<int>(Unit::FpCmp) || rtl_ok;
+    if (u.area < 0 && !(u.area == kAreaSynth && synth_ok))
+      R.fail(k + ".area", synth_ok ? "must be >= 0 or \"synth\"" : "must be >= 0");
   }
   check_cache(R, l1, "l1");
   check_cache(R, l2, "l2");
@@ -197,10 +206,27 @@ Config parse_config(const std::string& text, const std::string& source, const Co
         UnitCfg& u = c.units[idx];
         for (const auto& [k, v] : R.table(uv, "units." + uname)) {
           const std::string key = "units." + uname + "." + std::string(k.str());
-          if (k == "latency") u.latency = static_cast<int>(R.integer(v, key, 1, 100000));
-          else if (k == "count") u.count = static_cast<int>(R.integer(v, key, 1, 4096));
+          if (k == "latency") {
+            if (v.value_exact<std::string>() && *v.value_exact<std::string>() == "rtl") {
+              if (idx != static_cast<int>(Unit::Box) && idx != static_cast<int>(Unit::Tri) &&
+                  idx != static_cast<int>(Unit::Noise))
+                R.fail(key, "\"rtl\" is accepted for box, tri and noise only");
+              u.latency = kLatencyRtl;
+            } else {
+              u.latency = static_cast<int>(R.integer(v, key, 1, 100000));
+            }
+          } else if (k == "count") u.count = static_cast<int>(R.integer(v, key, 1, 4096));
           else if (k == "width") u.width = static_cast<int>(R.integer(v, key, 1, 4096));
-          else if (k == "area") u.area = R.number(v, key, 0, 1e12);
+          else if (k == "area") {
+            if (v.value_exact<std::string>() && *v.value_exact<std::string>() == "synth") {
+              if (idx > static_cast<int>(Unit::FpCmp) && idx != static_cast<int>(Unit::Box) &&
+                  idx != static_cast<int>(Unit::Tri) && idx != static_cast<int>(Unit::Noise))
+                R.fail(key, "\"synth\" is accepted for the FP, box, tri and noise units only");
+              u.area = kAreaSynth;
+            } else {
+              u.area = R.number(v, key, 0, 1e12);
+            }
+          }
           else R.fail(key, "unknown key (accepted: latency, count, width, area)");
         }
       }
@@ -262,9 +288,17 @@ std::string to_toml(const Config& c) {
     << "\nframebuffer_bytes_per_pixel = " << c.framebuffer_bytes_per_pixel << "\n";
   for (int i = 0; i < kUnits; ++i) {
     const UnitCfg& u = c.units[i];
-    o << "\n[units." << kUnitNames[i] << "]\nlatency = " << u.latency << "\ncount = " << u.count
-      << "\nwidth = " << u.width << "\narea = " << fmt_num(u.area) << (std::floor(u.area) == u.area ? ".0" : "")
-      << "\n";
+    o << "\n[units." << kUnitNames[i] << "]\nlatency = ";
+    if (u.latency == kLatencyRtl)
+      o << "\"rtl\"";
+    else
+      o << u.latency;
+    o << "\ncount = " << u.count << "\nwidth = " << u.width << "\narea = ";
+    if (u.area == kAreaSynth)
+      o << "\"synth\"";
+    else
+      o << fmt_num(u.area) << (std::floor(u.area) == u.area ? ".0" : "");
+    o << "\n";
   }
   o << "\n[atomic]\nlatency = " << c.atomic_latency << "\n\n[local_store]\nlatency = " << c.local_store_latency << "\n";
   for (const auto* p : {&c.l1, &c.l2}) {

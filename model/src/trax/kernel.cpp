@@ -16,6 +16,8 @@ using render::kernel::Tracer;
 using units::Vec3;
 using Ray = Tracer<TVal>::Ray;
 int64_t traverse(Tracer<TVal>& tr, const Ray& r, const TVal& tmin, TVal& tmax, bool any);
+bool software_noise();
+uint32_t emit_software_noise(Thread& t, const Vec3<TVal>& q);
 }  // namespace ru::trax
 
 namespace ru::render::kernel {
@@ -28,8 +30,26 @@ struct KernelHooks<ru::trax::TVal> {
   }
   // One NOISE instruction on the texture coordinate (the value is the renderer's).
   static void noise(const Vec3<trax::TVal>& q, trax::TVal& res) {
-    if (trax::Thread* t = trax::Thread::current())
-      res.reg = t->emit(trax::Op::Noise, {trax::detail::use(q.x), trax::detail::use(q.y), trax::detail::use(q.z)});
+    trax::Thread* t = trax::Thread::current();
+    if (!t) return;
+    if (trax::software_noise()) {
+      res.reg = trax::emit_software_noise(*t, q);
+      return;
+    }
+    res.reg = t->emit(trax::Op::Noise, {trax::detail::use(q.x), trax::detail::use(q.y), trax::detail::use(q.z)});
+    if (t->keep_operands()) {
+      // The hardware unit's words, exactly as Tracer::noise_at feeds FixedNoise (noise = fixed;
+      // with noise = float there is no hardware unit and the record is not co-simulated).
+      static const noise::FixedNoise fx{noise::FixedConfig{}};
+      const int in_w = fx.config().frac_bits + fx.config().int_bits, out_w = fx.config().out_w;
+      const uint64_t in_mask = (1ull << in_w) - 1, out_mask = (1ull << out_w) - 1;
+      const int64_t x = fx.quantize(0.5 * fp_to_double(q.x)), y = fx.quantize(0.5 * fp_to_double(q.y)),
+                    z = fx.quantize(0.5 * fp_to_double(q.z));
+      const uint64_t w[trax::kNoiseIn + trax::kNoiseOut] = {
+          static_cast<uint64_t>(x) & in_mask, static_cast<uint64_t>(y) & in_mask, static_cast<uint64_t>(z) & in_mask,
+          static_cast<uint64_t>(fx.eval(x, y, z)) & out_mask};
+      t->attach(w, trax::kNoiseIn + trax::kNoiseOut);
+    }
   }
 };
 }  // namespace ru::render::kernel
@@ -64,7 +84,9 @@ struct Ctx {
     TVal t;
   };
   std::vector<Entry> stack;
-  uint64_t visits = 0, up_steps = 0;
+  bool soft_noise = false;
+  uint64_t noise_table_base = 0;
+  uint64_t visits = 0, up_steps = 0, soft_noise_evals = 0;
   uint32_t max_stack = 0;
 };
 Ctx* g_ctx = nullptr;  // the running kernel (one simulation at a time per process)
@@ -89,6 +111,13 @@ bool box(Tracer<TVal>& tr, const Ray& r, int32_t node, uint32_t addr_reg, const 
   s[13] = use(tmax);
   const auto res = units::ray_box(soft(r.o), soft(r.inv), soft(n.lo), soft(n.hi), tmin.v, tmax.v, tr.opt.box);
   const uint32_t reg = th().emit(Op::Box, s, 14);
+  if (th().keep_operands()) {
+    const uint64_t w[kBoxIn + kBoxOut] = {
+        r.o.x.v.bits,  r.o.y.v.bits,  r.o.z.v.bits,  r.inv.x.v.bits, r.inv.y.v.bits, r.inv.z.v.bits, n.lo.x.v.bits,
+        n.lo.y.v.bits, n.lo.z.v.bits, n.hi.x.v.bits, n.hi.y.v.bits,  n.hi.z.v.bits,  tmin.v.bits,    tmax.v.bits,
+        res.hit,       res.t_enter.bits, res.t_exit.bits};
+    th().attach(w, kBoxIn + kBoxOut);
+  }
   th().emit(Op::Branch, {reg}, false);
   te->v = res.t_enter;
   te->reg = reg;
@@ -110,18 +139,21 @@ bool tri(Tracer<TVal>& tr, const Ray& r, uint32_t i, uint32_t addr_reg, const TV
   for (int k = 0; k < 9; ++k) s[6 + k] = th().load(C.L.tri(i) + k * C.L.W, addr_reg);
   s[15] = use(tmin);
   s[16] = use(tmax);
-  bool hit;
-  Soft th_;
-  if (tr.opt.tri == render::TriAlgo::Robust) {
-    const auto res = units::ray_tri_robust(soft(r.o), soft(r.d), soft(T.p0), soft(T.p1), soft(T.p2), tmin.v, tmax.v);
-    hit = res.hit;
-    th_ = res.t;
-  } else {
-    const auto res = units::ray_tri_mt(soft(r.o), soft(r.d), soft(T.p0), soft(T.p1), soft(T.p2), tmin.v, tmax.v);
-    hit = res.hit;
-    th_ = res.t;
-  }
+  const units::TriResult<Soft> res =
+      tr.opt.tri == render::TriAlgo::Robust
+          ? units::ray_tri_robust(soft(r.o), soft(r.d), soft(T.p0), soft(T.p1), soft(T.p2), tmin.v, tmax.v)
+          : units::ray_tri_mt(soft(r.o), soft(r.d), soft(T.p0), soft(T.p1), soft(T.p2), tmin.v, tmax.v);
+  const bool hit = res.hit;
+  const Soft th_ = res.t;
   const uint32_t reg = th().emit(Op::Tri, s, 17);
+  if (th().keep_operands()) {
+    const uint64_t w[kTriIn + kTriOut] = {
+        r.o.x.v.bits,  r.o.y.v.bits,  r.o.z.v.bits,  r.d.x.v.bits,  r.d.y.v.bits,  r.d.z.v.bits,
+        T.p0.x.v.bits, T.p0.y.v.bits, T.p0.z.v.bits, T.p1.x.v.bits, T.p1.y.v.bits, T.p1.z.v.bits,
+        T.p2.x.v.bits, T.p2.y.v.bits, T.p2.z.v.bits, tmin.v.bits,   tmax.v.bits,   res.hit,
+        static_cast<uint64_t>(res.why), res.t.bits, res.beta.bits, res.gamma.bits};
+    th().attach(w, kTriIn + kTriOut);
+  }
   th().emit(Op::Branch, {reg}, false);
   t->v = th_;
   t->reg = reg;
@@ -379,7 +411,137 @@ class RenderWork : public WorkSource {
   render::Image& img_;
 };
 
+// The primary / shadow / diffuse-bounce workloads of the ray-coherence study (RunOptions).
+class RayWork : public WorkSource {
+ public:
+  RayWork(Tracer<TVal>& tr, const Layout& L, const Config& c, render::Image& img, const std::string& mode)
+      : tr_(tr), L_(L), cfg_(c), img_(img), mode_(mode) {}
+  uint64_t items() const override { return static_cast<uint64_t>(img_.width) * img_.height; }
+  uint64_t primary = 0, shadow = 0, bounce = 0;
+  void generate(uint64_t item, Thread& t) override {
+    const auto& P = tr_.P;
+    const int x = static_cast<int>(item % img_.width), y = static_cast<int>(item / img_.width);
+    const uint32_t ry = t.emit(Op::Int, {Thread::kItemReg});
+    const uint32_t rx = t.emit(Op::Int, {Thread::kItemReg, ry});
+    TVal px, py;
+    px.v = Soft::from_double(x + 0.5);
+    py.v = Soft::from_double(y + 0.5);
+    px.reg = t.emit(Op::Conv, {rx});
+    py.reg = t.emit(Op::Conv, {ry});
+    const Vec3<TVal> d = tr_.primary_dir(px, py);
+    ++primary;
+    const Ray r = tr_.make_ray(P.eye, d);
+    TVal tt = num::fp_cast<TVal>(HUGE_VAL);
+    const int64_t hit = tr_.intersect(r, P.eps, tt, false);
+    float* out = img_.at(x, y);
+    out[0] = out[1] = out[2] = hit >= 0 ? 1.0f : 0.0f;
+    uint32_t res = t.emit(Op::Int, {use(tt)});
+    if (hit >= 0 && mode_ != "primary") {
+      const Vec3<TVal> p = render::kernel::vadd(r.o, render::kernel::vscale(r.d, tt));
+      TVal tmax;
+      if (mode_ == "shadow") {
+        ++shadow;
+        const Vec3<TVal> ld = units::vsub(P.light, p);
+        const Ray s = tr_.make_ray(p, ld);
+        tmax = P.shadow_max;
+        tr_.intersect(s, P.shadow_min, tmax, true);
+      } else {
+        ++bounce;
+        const auto& T = P.tris[hit];
+        Vec3<TVal> N = units::cross(units::vsub(T.p1, T.p0), units::vsub(T.p2, T.p0));
+        if (P.zero < units::dot(N, r.d)) N = render::kernel::vneg(N);
+        // a per-pixel pseudo-random unit vector (immediates: a hardware random source)
+        uint64_t h = (item + 1) * 0x9E3779B97F4A7C15ull;
+        double v[3], n2 = 0;
+        for (double& c : v) {
+          h ^= h >> 29;
+          h *= 0xBF58476D1CE4E5B9ull;
+          c = double(h >> 11) / double(1ull << 53) * 2.0 - 1.0;
+          n2 += c * c;
+        }
+        Vec3<TVal> rv;
+        for (int k = 0; k < 3; ++k) rv[k] = num::fp_cast<TVal>(v[k] / std::sqrt(n2 > 0 ? n2 : 1.0));
+        // direction = N / |N| + rv (cosine-like lobe), folded into the hemisphere of N
+        const TVal inv_len = P.one / fp_sqrt(units::dot(N, N));
+        Vec3<TVal> dir = render::kernel::vadd(render::kernel::vscale(N, inv_len), rv);
+        if (!(P.zero < units::dot(dir, N))) dir = N;
+        const Ray b = tr_.make_ray(p, dir);
+        tmax = num::fp_cast<TVal>(HUGE_VAL);
+        tr_.intersect(b, P.shadow_min, tmax, false);
+      }
+      res = t.emit(Op::Int, {res, use(tmax)});
+    }
+    t.emit(Op::Store, {res}, false, L_.fb_base + item * cfg_.framebuffer_bytes_per_pixel);
+  }
+
+ private:
+  Tracer<TVal>& tr_;
+  const Layout& L_;
+  const Config& cfg_;
+  render::Image& img_;
+  std::string mode_;
+};
+
 }  // namespace
+
+bool software_noise() { return g_ctx && g_ctx->soft_noise; }
+
+// Software noise on the TPs (RunOptions::software_noise): the instruction sequence of the
+// hardware unit's algorithm (docs/NOISE.md steps (1)-(13)) in the chip's FP format, with its
+// dependencies and its table loads at the addresses the evaluation really uses (per-axis hash
+// tables of 256 entries, 64-entry gradient table; FixedTrace gives the indices). The value is
+// the hardware model's (timing only: a software version in the format would not give its bits).
+//   per axis: u = 0.5 q (FMUL), floor (2 CONV), f = u - floor (FADD), 1 - f (FADD), squares
+//             f^2, (1-f)^2 (2 FMUL), cell and cell + 1 (2 INT), two hash loads
+//   per corner (8): hash xor (2 INT), 3 gradient loads, d = sum of squares (2 FADD),
+//             t = 1 - d (FADD), t > 0 (FCMP + BRANCH), t^2, t^4, t^5 (3 FMUL),
+//             w = 4 t^5 - 3 t^4 (2 FMUL + FADD), dot = offset . g (3 FMUL + 2 FADD),
+//             w * dot (FMUL), running sum (FADD)
+//   scale to the output (FMUL)
+uint32_t emit_software_noise(Thread& t, const Vec3<TVal>& q) {
+  Ctx& C = *g_ctx;
+  ++C.soft_noise_evals;
+  static const noise::FixedNoise fx{noise::FixedConfig{}};
+  noise::FixedTrace tr{};
+  fx.eval(fx.quantize(0.5 * q.x.v.to_double()), fx.quantize(0.5 * q.y.v.to_double()),
+          fx.quantize(0.5 * q.z.v.to_double()), &tr);
+  const uint64_t hash_base = C.noise_table_base, grad_base = C.noise_table_base + 3 * 256 * 4;
+  uint32_t f[3], om[3], sq0[3], sq1[3], h0[3], h1[3];
+  for (int a = 0; a < 3; ++a) {
+    const uint32_t u = t.emit(Op::FMul, {use(q[a])});
+    const uint32_t fl = t.emit(Op::Conv, {t.emit(Op::Conv, {u})});
+    f[a] = t.emit(Op::FAdd, {u, fl});
+    om[a] = t.emit(Op::FAdd, {f[a]});
+    sq0[a] = t.emit(Op::FMul, {f[a], f[a]});
+    sq1[a] = t.emit(Op::FMul, {om[a], om[a]});
+    const uint32_t cell = t.emit(Op::Int, {fl});
+    const uint32_t cell1 = t.emit(Op::Int, {cell});
+    h0[a] = t.load(hash_base + (a * 256 + static_cast<uint64_t>(tr.cell[a])) * 4, cell);
+    h1[a] = t.load(hash_base + (a * 256 + static_cast<uint64_t>((tr.cell[a] + 1) & 255)) * 4, cell1);
+  }
+  uint32_t sum = 0;
+  for (int c = 0; c < 8; ++c) {
+    const int bx = c & 1, by = (c >> 1) & 1, bz = (c >> 2) & 1;
+    const uint32_t hx = bx ? h1[0] : h0[0], hy = by ? h1[1] : h0[1], hz = bz ? h1[2] : h0[2];
+    const uint32_t hh = t.emit(Op::Int, {t.emit(Op::Int, {hx, hy}), hz});
+    uint32_t g[3];
+    for (int k = 0; k < 3; ++k) g[k] = t.load(grad_base + (static_cast<uint64_t>(tr.h[c]) * 3 + k) * 4, hh);
+    const uint32_t d = t.emit(Op::FAdd, {t.emit(Op::FAdd, {bx ? sq1[0] : sq0[0], by ? sq1[1] : sq0[1]}),
+                                         bz ? sq1[2] : sq0[2]});
+    const uint32_t tt = t.emit(Op::FAdd, {d});
+    t.emit(Op::Branch, {t.emit(Op::FCmp, {tt})}, false);
+    const uint32_t t2 = t.emit(Op::FMul, {tt, tt});
+    const uint32_t t4 = t.emit(Op::FMul, {t2, t2});
+    const uint32_t t5 = t.emit(Op::FMul, {t4, tt});
+    const uint32_t w = t.emit(Op::FAdd, {t.emit(Op::FMul, {t5}), t.emit(Op::FMul, {t4})});
+    const uint32_t ox = bx ? om[0] : f[0], oy = by ? om[1] : f[1], oz = bz ? om[2] : f[2];
+    const uint32_t dot = t.emit(Op::FAdd, {t.emit(Op::FAdd, {t.emit(Op::FMul, {ox, g[0]}), t.emit(Op::FMul, {oy, g[1]})}),
+                                           t.emit(Op::FMul, {oz, g[2]})});
+    const uint32_t contrib = t.emit(Op::FMul, {w, dot});
+    sum = sum ? t.emit(Op::FAdd, {sum, contrib}) : contrib;
+  }
+  return t.emit(Op::FMul, {sum});
+}
 
 int64_t traverse(Tracer<TVal>& tr, const Ray& r, const TVal& tmin, TVal& tmax, bool any) {
   return g_ctx->stackless ? traverse_stackless(tr, r, tmin, tmax, any) : traverse_stack(tr, r, tmin, tmax, any);
@@ -400,8 +562,20 @@ render::RenderOptions render_options(const Config& c, int width, int height) {
   return o;
 }
 
-TraxResult run_trax(const scene::Scene& s, const Config& c, int width, int height, bool progress) {
-  c.validate();
+TraxResult run_trax(const scene::Scene& s, const Config& c, int width, int height, bool progress,
+                    IssueObserver* observer) {
+  RunOptions ro;
+  ro.progress = progress;
+  ro.observer = observer;
+  return run_trax(s, c, width, height, ro);
+}
+
+TraxResult run_trax(const scene::Scene& s, const Config& c_in, int width, int height, const RunOptions& ro) {
+  c_in.validate();
+  if (ro.workload != "render" && ro.workload != "primary" && ro.workload != "shadow" && ro.workload != "diffuse")
+    throw std::invalid_argument("unknown workload '" + ro.workload + "' (accepted: render, primary, shadow, diffuse)");
+  std::vector<AreaSource> sources;
+  const Config c = resolve_config(c_in, &sources);
   if (width < 1 || height < 1 || width > 16384 || height > 16384)
     throw std::invalid_argument("image size must be between 1x1 and 16384x16384");
   if (s.tris.empty()) throw std::invalid_argument("scene '" + s.name + "' has no triangles");
@@ -411,6 +585,7 @@ TraxResult run_trax(const scene::Scene& s, const Config& c, int width, int heigh
 
   TraxResult R;
   R.cfg = c;
+  R.area_sources = sources;
   render::RenderStats rst;
   const Prepared<Soft> S = render::kernel::prepare<Soft>(s, opt, &rst);
   R.bvh_nodes = S.nodes.size();
@@ -428,6 +603,8 @@ TraxResult run_trax(const scene::Scene& s, const Config& c, int width, int heigh
   L.tri_base = align(L.node(static_cast<int64_t>(S.nodes.size())), 4096);
   L.mat_base = align(L.tri(static_cast<int64_t>(S.tris.size())), 4096);
   L.cam_base = align(L.mat_base + S.mats.size() * 8 * L.W, 4096);
+  C.soft_noise = ro.software_noise;
+  C.noise_table_base = align(L.cam_base + 15 * L.W, 4096);
   C.parent.assign(S.nodes.size(), -1);
   for (size_t i = 0; i < S.nodes.size(); ++i)
     if (S.nodes[i].left >= 0) {
@@ -441,17 +618,21 @@ TraxResult run_trax(const scene::Scene& s, const Config& c, int width, int heigh
   R.image.rgb.assign(static_cast<size_t>(width) * height * 3, 0.0f);
   Tracer<TVal> tracer(P, opt);
   RenderWork work(tracer, L, c, R.image);
+  RayWork rays(tracer, L, c, R.image, ro.workload);
+  WorkSource& ws = ro.workload == "render" ? static_cast<WorkSource&>(work) : rays;
   Ctx* saved = g_ctx;
   g_ctx = &C;
   try {
-    R.sim = simulate(c, work, progress);
+    R.sim = simulate(c, ws, ro.progress, ro.observer);
   } catch (...) {
     g_ctx = saved;
     throw;
   }
   g_ctx = saved;
-  R.primary_rays = tracer.cnt.primary;
-  R.shadow_rays = tracer.cnt.shadow;
+  R.primary_rays = tracer.cnt.primary + rays.primary;
+  R.shadow_rays = tracer.cnt.shadow + rays.shadow;
+  R.bounce_rays = rays.bounce;
+  R.software_noise_evals = C.soft_noise_evals;
   R.box_tests = tracer.cnt.box;
   R.tri_tests = tracer.cnt.tri;
   R.noise_evals = tracer.cnt.noise;

@@ -169,6 +169,11 @@ std::string summary_md(const TraxResult& r, const std::string& scene_name, const
     o << "| " << it.name << " | " << num(it.count, "%g") << " | " << num(it.each, "%.0f") << " | "
       << num(it.total(), "%.0f") << " |\n";
   o << "| **total** | | | **" << num(r.area.total, "%.0f") << "** |\n";
+  if (!r.area_sources.empty()) {
+    o << "\nUnit areas (docs/TRAX.md \"Area model\"; rows of model/data/trax/areas.json):\n\n";
+    for (const auto& a : r.area_sources)
+      if (a.how != "configured") o << "- " << a.unit << ": " << a.how << (a.detail.empty() ? "" : " -- `" + a.detail + "`") << "\n";
+  }
   o << "\n## Instruction mix\n\n| op | count |\n|---|---:|\n";
   for (int i = 0; i < kOps; ++i)
     if (s.op_count[i]) o << "| " << op_name(static_cast<Op>(i)) << " | " << s.op_count[i] << " |\n";

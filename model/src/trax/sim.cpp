@@ -99,6 +99,7 @@ struct Cache {
 struct TP {
   Stream s;
   size_t pc = 0;
+  uint64_t item = 0;
   bool active = false, halted = false;
   std::vector<uint64_t> ready;
   std::vector<uint8_t> from_mem;
@@ -114,7 +115,9 @@ struct TM {
 
 class Machine {
  public:
-  Machine(const Config& c, WorkSource& w) : cfg_(c), work_(w), l2_(c.l2), l2_free_(c.l2.banks, 0) {
+  Machine(const Config& c, WorkSource& w, IssueObserver* obs)
+      : cfg_(c), work_(w), obs_(obs), l2_(c.l2), l2_free_(c.l2.banks, 0) {
+    th_.set_keep_operands(obs != nullptr);
     tms_.reserve(c.tms);
     for (int i = 0; i < c.tms; ++i) tms_.emplace_back(c.tps_per_tm, c.l1);
     for (int u = 0; u < kUnits; ++u) cap_[u] = c.units[u].count * c.units[u].width;
@@ -124,12 +127,13 @@ class Machine {
   }
 
   bool done() const { return running_ == 0; }
+  bool stopped() const { return obs_ && obs_->failed(); }
   uint64_t next_item() const { return next_item_; }
 
   void cycle(uint64_t now) {
     atomic_used_ = false;
     const int n = cfg_.tms;
-    for (int k = 0; k < n; ++k) step(tms_[(now + k) % n], now);
+    for (int k = 0; k < n; ++k) step((now + k) % n, now);
   }
 
   SimStats st;
@@ -176,12 +180,14 @@ class Machine {
     return ready;
   }
 
-  void step(TM& tm, uint64_t now) {
+  void step(uint64_t tm_index, uint64_t now) {
+    TM& tm = tms_[tm_index];
     tm.used.fill(0);
     std::fill(tm.bank_used.begin(), tm.bank_used.end(), 0);
     const int n = cfg_.tps_per_tm;
     for (int k = 0; k < n; ++k) {
-      TP& p = tm.tps[(now + k) % n];
+      const uint64_t tp_index = (now + k) % n;
+      TP& p = tm.tps[tp_index];
       if (p.halted) {
         ++st.idle;
         continue;
@@ -202,6 +208,7 @@ class Machine {
           continue;
         }
         const uint64_t item = next_item_++;
+        p.item = item;
         th_.begin(&p.s);
         {
           Thread::Scope scope(&th_);
@@ -242,6 +249,19 @@ class Machine {
         if (tm.used[ui] >= cap_[ui]) {
           ++st.stall_contention;
           continue;
+        }
+        if (obs_ && (u == Unit::Box || u == Unit::Tri || u == Unit::Noise)) {
+          UnitIssue e;
+          e.cycle = now;
+          e.tm = static_cast<int>(tm_index);
+          e.tp = static_cast<int>(tp_index);
+          e.slot = tm.used[ui];
+          e.item = p.item;
+          e.index = p.pc;
+          e.op = in.op;
+          e.data = p.s.data.empty() ? nullptr : p.s.data.data() + in.addr;  // none: not recorded
+          ++st.observed;
+          obs_->issue(e);
         }
         ++tm.used[ui];
         ++st.unit_ops[ui];
@@ -293,6 +313,7 @@ class Machine {
  private:
   const Config& cfg_;
   WorkSource& work_;
+  IssueObserver* obs_ = nullptr;
   std::vector<TM> tms_;
   Cache l2_;
   std::vector<uint64_t> l2_free_;
@@ -321,7 +342,7 @@ struct Chip : sc_core::sc_module {
   }
   void tick() {
     m.cycle(now++);
-    if (m.done()) {
+    if (m.done() || m.stopped()) {
       sc_core::sc_stop();
       return;
     }
@@ -338,20 +359,24 @@ struct Chip : sc_core::sc_module {
 
 }  // namespace
 
-SimStats simulate(const Config& cfg, WorkSource& work, bool progress) {
+SimStats simulate(const Config& cfg, WorkSource& work, bool progress, IssueObserver* observer) {
   cfg.validate();
+  Config rc = cfg;  // "rtl" latencies resolved (areas do not matter here)
+  for (Unit u : {Unit::Box, Unit::Tri, Unit::Noise})
+    if (rc.unit(u).latency == kLatencyRtl) rc.unit(u).latency = rtl_latency(rc, u);
   const auto t0 = std::chrono::steady_clock::now();
   // A fresh simulation context per run: SystemC 2.3 cannot elaborate again after sc_start, so
   // each run gets its own context (the previous one is abandoned; it holds only this module).
   sc_core::sc_curr_simcontext = new sc_core::sc_simcontext();
   sc_core::sc_default_global_context = sc_core::sc_curr_simcontext;
   sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
-  Machine m(cfg, work);
-  const double ps = std::max(1.0, std::round(1e6 / cfg.clock_mhz));
+  Machine m(rc, work, observer);
+  const double ps = std::max(1.0, std::round(1e6 / rc.clock_mhz));
   Chip* chip = new Chip("trax", sc_core::sc_time(ps, sc_core::SC_PS), m, progress);
   (void)chip;
   sc_core::sc_start();
   SimStats st = m.st;
+  st.stopped = m.stopped();
   st.cycles = m.last();
   st.host_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return st;

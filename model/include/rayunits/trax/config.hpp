@@ -18,6 +18,7 @@
 #include <cstdint>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace ru::trax {
 
@@ -47,11 +48,13 @@ const char* unit_name(Unit u);  // "fp_add", ... (the TOML table names)
 std::string unit_names();       // "fp_add, fp_mul, ..."
 
 struct UnitCfg {
-  int latency = 1;  // cycles from issue to result (>= 1)
+  int latency = 1;  // cycles from issue to result (>= 1); 0 = "rtl" (box, tri, noise): rtl_latency()
   int count = 1;    // units per TM
   int width = 1;    // operations accepted per unit per cycle
-  double area = 0;  // NAND2-equivalents per unit
+  double area = 0;  // NAND2-equivalents per unit; kAreaSynth = "synth": from the area table
 };
+constexpr double kAreaSynth = -1;  // TOML area = "synth"
+constexpr int kLatencyRtl = 0;     // TOML latency = "rtl"
 
 struct CacheCfg {
   uint64_t size = 0;  // bytes
@@ -101,6 +104,31 @@ struct Config {
 // adder and one multiplier per 8 threads, divide/sqrt 16, everything else 1; L1 32 KB 4 banks
 // 64 B lines 1 cycle, L2 512 KB 8 banks 3 cycles.
 Config default_config();
+
+// The RTL Stages of the box / triangle / noise unit for this chip (TOML latency = "rtl"): the
+// unit's chain of FP levels (rtl/ru_ray_box.sv, ru_ray_tri_robust.sv, ru_ray_tri_mt.sv), each
+// level pipelined like the chip's own FP unit of that kind, so the unit runs at the chip's clock:
+//   box            add + mul + 3 cmp
+//   tri robust     4 add + 2 mul + div + cmp      (levels add mul add mul add add div cmp)
+//   tri mt         5 add + 3 mul + div + cmp      (levels add mul add mul add add div mul add cmp)
+//   noise          4 (Kensler's four-stage unit; ru_noise Stages 4)
+// with add, mul, div, cmp = the configured latencies of fp_add, fp_mul, fp_div, fp_cmp
+// (simtrax defaults 2, 2, 16, 1: box 7, robust 29, mt 33).
+int rtl_latency(const Config& c, Unit u);
+
+// Where a unit's area came from (resolve_config fills it for area = "synth").
+struct AreaSource {
+  std::string unit;     // "fp_add", "ray_tri_robust", ...
+  std::string how;      // "measured" | "composed" | "estimate" | "configured"
+  std::string detail;   // the synth command, or the composition
+};
+
+// Resolves "rtl" latencies and "synth" areas (model/data/trax/areas.json, or $RU_TRAX_AREAS):
+// areas by (unit, format, Stages = latency): a measured row if present, else box / tri composed
+// from the measured FP-unit rows of the format (box 6 add + 6 mul + 7 cmp; robust 43 add + 39
+// mul + 3 div + 20 cmp; mt 24 add + 27 mul + 1 div + 5 cmp), fp_sqrt = fp_div (no RTL). A
+// missing FP row throws ConfigError naming the unit, format and Stages.
+Config resolve_config(const Config& c, std::vector<AreaSource>* sources = nullptr);
 
 // Reads TOML text on top of `base`; `source` names the file in error messages.
 Config parse_config(const std::string& toml_text, const std::string& source, const Config& base = default_config());

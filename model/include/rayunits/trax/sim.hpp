@@ -68,6 +68,8 @@ struct SimStats {
   uint64_t dram_read_bytes = 0, dram_write_bytes = 0;
   uint32_t max_live_registers = 0;  // over all streams
   uint64_t max_stream_length = 0;
+  bool stopped = false;     // an IssueObserver stopped the run (co-simulation mismatch)
+  uint64_t observed = 0;    // unit operations passed to the IssueObserver
   double host_seconds = 0;  // wall clock of the simulation (functional execution included)
   // Derived
   double issue_rate(const Config& c) const {  // instructions per TP per cycle
@@ -79,9 +81,33 @@ struct SimStats {
   }
 };
 
+// One issued BOX / TRI / NOISE operation, as seen by an IssueObserver (RTL co-simulation).
+struct UnitIssue {
+  uint64_t cycle = 0;  // issue cycle
+  int tm = 0, tp = 0;  // thread multiprocessor, thread processor within it
+  int slot = 0;        // issue slot of the unit class in this TM and cycle: 0 .. count x width - 1
+                       // (unit slot / width, lane slot % width; one RTL instance per slot)
+  uint64_t item = 0;   // work item (pixel number)
+  uint64_t index = 0;  // instruction index within the item's stream
+  Op op = Op::Box;
+  const uint64_t* data = nullptr;  // unit_inputs(op) inputs, then unit_outputs(op) golden outputs
+};
+
+// Sees every unit operation in issue order (cycle order; within a cycle in the model's
+// arbitration order). Used by the RTL co-simulation (model/src/trax/cosim.cpp).
+class IssueObserver {
+ public:
+  virtual ~IssueObserver() = default;
+  virtual void issue(const UnitIssue& u) = 0;
+  // Checked once per cycle: true ends the run (SimStats::stopped).
+  virtual bool failed() const { return false; }
+};
+
 // Runs the timing model on a fresh SystemC simulation context (deterministic; may be called
-// any number of times in one process). progress: a line on stderr every ~2 s.
-SimStats simulate(const Config& cfg, WorkSource& work, bool progress = false);
+// any number of times in one process). progress: a line on stderr every ~2 s. With an
+// observer, kernels record operands of unit instructions (Thread::keep_operands) and every
+// BOX / TRI / NOISE issue is passed to it.
+SimStats simulate(const Config& cfg, WorkSource& work, bool progress = false, IssueObserver* observer = nullptr);
 
 // A WorkSource for micro-kernels and tests: item i's stream is recorded by f(i, th).
 class FunctionWork : public WorkSource {

@@ -63,17 +63,33 @@ struct Instr {
   uint8_t nsrc;
   uint32_t dst;   // 0: no result
   uint32_t src;   // index of the first source in Stream::srcs
-  uint64_t addr;  // byte address (Load, Store, LoadLocal, StoreLocal)
+  uint64_t addr;  // byte address (Load, Store, LoadLocal, StoreLocal); Box/Tri/Noise with
+                  // operand recording on: offset of its operands in Stream::data
 };
+
+// Operand records of the unit instructions (kept only when Thread::keep_operands(): the RTL
+// co-simulation). Bit patterns, inputs then the golden model's outputs:
+//   Box   14 in: o.xyz, inv.xyz, lo.xyz, hi.xyz, t_min, t_max;  3 out: hit, t_enter, t_exit
+//   Tri   17 in: a.xyz, d.xyz, p0.xyz, p1.xyz, p2.xyz, t_min, t_max;
+//          5 out: hit, why (units::TriMiss), t, beta, gamma
+//   Noise  3 in: the noise unit's input words x, y, z (FixedNoise::quantize, two's complement
+//          masked to IntBits + FracBits); 1 out: value (masked to OutW bits)
+constexpr int kBoxIn = 14, kBoxOut = 3, kTriIn = 17, kTriOut = 5, kNoiseIn = 3, kNoiseOut = 1;
+inline int unit_inputs(Op op) { return op == Op::Box ? kBoxIn : op == Op::Tri ? kTriIn : op == Op::Noise ? kNoiseIn : 0; }
+inline int unit_outputs(Op op) {
+  return op == Op::Box ? kBoxOut : op == Op::Tri ? kTriOut : op == Op::Noise ? kNoiseOut : 0;
+}
 
 struct Stream {
   std::vector<Instr> code;
   std::vector<uint32_t> srcs;
+  std::vector<uint64_t> data;  // operand records (see kBoxIn), only with keep_operands
   uint32_t nregs = 2;     // registers used: 0 (none), 1 (work item), 2..nregs-1
   uint32_t max_live = 0;  // most registers live at once (a lower bound on the register file)
   void clear() {
     code.clear();
     srcs.clear();
+    data.clear();
     nregs = 2;
     max_live = 0;
   }
@@ -113,6 +129,15 @@ class Thread {
   uint32_t emit(Op op, std::initializer_list<uint32_t> src, bool has_dst = true, uint64_t addr = 0) {
     return emit(op, src.begin(), static_cast<int>(src.size()), has_dst, addr);
   }
+  // Operand recording for the RTL co-simulation (set by the timing model when it has an
+  // IssueObserver). With it on, the unit instruction just emitted gets its operand record.
+  bool keep_operands() const { return keep_operands_; }
+  void set_keep_operands(bool on) { keep_operands_ = on; }
+  // Attaches n words to the last instruction (a Box/Tri/Noise): Instr::addr = their offset.
+  void attach(const uint64_t* w, int n) {
+    s_->code.back().addr = s_->data.size();
+    s_->data.insert(s_->data.end(), w, w + n);
+  }
   // A load of scene data at `addr` (address computed from register addr_reg, 0 = constant).
   uint32_t load(uint64_t addr, uint32_t addr_reg = 0) { return emit(Op::Load, {addr_reg}, true, addr); }
   // A load of a scene value used by the shading code: the first use in an item loads it, later
@@ -142,6 +167,7 @@ class Thread {
   Stream* s_ = nullptr;
   std::unordered_map<uint64_t, uint32_t> load_cache_;
   std::vector<uint32_t> live_end_;
+  bool keep_operands_ = false;
 };
 
 // ------------------------------------------------------------------ TVal

@@ -27,17 +27,18 @@ struct Area {
 Area area_estimate(const Config& c, const SimStats& st);
 
 struct TraxResult {
-  Config cfg;
+  Config cfg;  // resolved (resolve_config): "rtl" latencies and "synth" areas filled in
+  std::vector<AreaSource> area_sources;
   render::Image image;
   SimStats sim;
-  uint64_t primary_rays = 0, shadow_rays = 0, box_tests = 0, tri_tests = 0, noise_evals = 0;
+  uint64_t primary_rays = 0, shadow_rays = 0, bounce_rays = 0, software_noise_evals = 0, box_tests = 0, tri_tests = 0, noise_evals = 0;
   uint64_t node_visits = 0;   // nodes whose children / triangles were examined
   uint64_t up_steps = 0;      // stackless: moves to a parent
   uint32_t max_stack = 0;     // stack: deepest stack (entries of 8 bytes in the local store)
   size_t bvh_nodes = 0;
   int bvh_depth = 0;
   Area area;
-  uint64_t rays() const { return primary_rays + shadow_rays; }
+  uint64_t rays() const { return primary_rays + shadow_rays + bounce_rays; }
   double seconds() const { return double(sim.cycles) / (cfg.clock_mhz * 1e6); }
   double rays_per_second() const { return sim.cycles ? double(rays()) / seconds() : 0.0; }
 };
@@ -46,8 +47,26 @@ struct TraxResult {
 // to produce the same image: format, tri, box, bvh, leaf, noise; shadows on).
 render::RenderOptions render_options(const Config& c, int width, int height);
 
-// Throws ConfigError / ru::num::FormatError / std::invalid_argument on bad input.
-TraxResult run_trax(const scene::Scene& s, const Config& c, int width, int height, bool progress = false);
+// What the chip runs (studies; the default is the renderer's image).
+struct RunOptions {
+  // render: the renderer's shading (image equal to `rayunits render`); primary: primary rays
+  // only (closest hit); shadow: primary + a hard-shadow ray to the light (any hit) per hit;
+  // diffuse: primary + one diffuse bounce per hit (closest hit, a per-pixel pseudo-random
+  // direction in the hemisphere of the facing normal: incoherent). Non-render images show the
+  // primary hit mask.
+  std::string workload = "render";
+  // The noise function computed on the TPs in software (docs/TRAX.md: an instruction sequence
+  // of the same algorithm, values from the hardware model) instead of the NOISE unit.
+  bool software_noise = false;
+  bool progress = false;
+  IssueObserver* observer = nullptr;
+};
+TraxResult run_trax(const scene::Scene& s, const Config& c, int width, int height, const RunOptions& ro);
+
+// Throws ConfigError / ru::num::FormatError / std::invalid_argument on bad input. observer:
+// sees every BOX / TRI / NOISE issue (the RTL co-simulation, trax/cosim.hpp).
+TraxResult run_trax(const scene::Scene& s, const Config& c, int width, int height, bool progress = false,
+                    IssueObserver* observer = nullptr);
 
 // summary.json / summary.md contents.
 std::string summary_json(const TraxResult& r, const std::string& scene_name, const std::string& command);

@@ -1,0 +1,188 @@
+// rayunits trax --cosim: the client side of the RTL co-simulation (protocol in trax/cosim.hpp).
+#include "rayunits/trax/cosim.hpp"
+
+#include <cerrno>
+#include <csignal>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <sstream>
+#include <stdexcept>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include "rayunits/num/format.hpp"
+
+namespace ru::trax::cosim {
+
+namespace fs = std::filesystem;
+
+std::string header_line(const Config& c) {
+  const std::string fmt = c.format == "float" ? "e8m23" : c.format;
+  auto unit = [&](Unit u, const std::string& algo) {
+    const UnitCfg& k = c.unit(u);
+    return algo + ":" + std::to_string(k.latency) + ":" + std::to_string(k.count * k.width);
+  };
+  std::ostringstream o;
+  o << kProtocol << " format=" << fmt << " tms=" << c.tms << " box=" << unit(Unit::Box, c.box)
+    << " tri=" << unit(Unit::Tri, c.tri) << " noise=" << unit(Unit::Noise, c.noise);
+  return o.str();
+}
+
+std::string default_executable() {
+  if (const char* e = std::getenv("RU_TRAX_COSIM"); e && *e) return e;
+  std::error_code ec;
+  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+  if (ec) return "tb_trax_cosim";
+  // <build>/model/cli/rayunits -> <build>/tb/trax/tb_trax_cosim
+  return (self.parent_path().parent_path().parent_path() / "tb" / "trax" / "tb_trax_cosim").string();
+}
+
+Client::~Client() {
+  if (to_ >= 0) ::close(to_);
+  if (from_ >= 0) ::close(from_);
+  if (pid_ > 0) {
+    ::kill(pid_, SIGTERM);
+    int st = 0;
+    ::waitpid(pid_, &st, 0);
+  }
+}
+
+namespace {
+// Reads one line (without '\n'); false at EOF before any character.
+bool read_line(int fd, std::string& line) {
+  line.clear();
+  char ch;
+  for (;;) {
+    const ssize_t n = ::read(fd, &ch, 1);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) return !line.empty();
+    if (ch == '\n') return true;
+    line += ch;
+  }
+}
+std::string read_all(int fd) {
+  std::string s;
+  char b[4096];
+  for (;;) {
+    const ssize_t n = ::read(fd, b, sizeof b);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    s.append(b, static_cast<size_t>(n));
+  }
+  return s;
+}
+}  // namespace
+
+void Client::start(const Config& cfg) {
+  std::error_code ec;
+  if (!fs::exists(exe_, ec) || ::access(exe_.c_str(), X_OK) != 0)
+    throw std::runtime_error("--cosim: the RTL co-simulation executable " + exe_ +
+                             " is not built (build the target tb_trax_cosim, or set RU_TRAX_COSIM)");
+  int in[2], out[2];
+  if (::pipe(in) != 0 || ::pipe(out) != 0) throw std::runtime_error("--cosim: pipe() failed");
+  std::signal(SIGPIPE, SIG_IGN);  // a companion that stopped at a mismatch: write() gives EPIPE
+  pid_ = ::fork();
+  if (pid_ < 0) throw std::runtime_error("--cosim: fork() failed");
+  if (pid_ == 0) {
+    ::dup2(in[0], 0);
+    ::dup2(out[1], 1);
+    ::close(in[0]);
+    ::close(in[1]);
+    ::close(out[0]);
+    ::close(out[1]);
+    ::execl(exe_.c_str(), exe_.c_str(), "--serve", static_cast<char*>(nullptr));
+    std::fprintf(stderr, "--cosim: cannot execute %s: %s\n", exe_.c_str(), std::strerror(errno));
+    ::_exit(127);
+  }
+  ::close(in[0]);
+  ::close(out[1]);
+  to_ = in[1];
+  from_ = out[0];
+  const std::string h = header_line(cfg) + "\n";
+  put(h.data(), h.size());
+  flush();
+  std::string line;
+  if (!read_line(from_, line)) throw std::runtime_error("--cosim: " + exe_ + " ended without an answer");
+  if (line.rfind("OK", 0) != 0) {
+    const std::string msg = line.rfind("ERROR ", 0) == 0 ? line.substr(6) : line;
+    throw std::runtime_error("--cosim: " + msg);
+  }
+  ok_line_ = line.size() > 3 ? line.substr(3) : "";
+}
+
+void Client::put(const void* p, size_t n) {
+  const char* c = static_cast<const char*>(p);
+  buf_.insert(buf_.end(), c, c + n);
+  if (buf_.size() >= (1u << 16)) flush();
+}
+
+void Client::flush() {
+  size_t off = 0;
+  while (off < buf_.size() && !failed_) {
+    const ssize_t n = ::write(to_, buf_.data() + off, buf_.size() - off);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      failed_ = true;  // the companion stopped (a mismatch): finish() collects its report
+      break;
+    }
+    off += static_cast<size_t>(n);
+  }
+  buf_.clear();
+}
+
+void Client::issue(const UnitIssue& u) {
+  if (failed_) return;
+  const int nin = unit_inputs(u.op), nout = unit_outputs(u.op);
+  if (!u.data) throw std::logic_error("--cosim: a unit operation without recorded operands");
+  Record r{};
+  r.cycle = u.cycle;
+  r.item = u.item;
+  r.index = u.index;
+  r.tm = static_cast<uint16_t>(u.tm);
+  r.tp = static_cast<uint16_t>(u.tp);
+  r.slot = static_cast<uint16_t>(u.slot);
+  r.op = static_cast<uint8_t>(u.op);
+  r.nwords = static_cast<uint8_t>(nin + nout);
+  put(&r, sizeof r);
+  if (inject_ >= 0 && sent_ == static_cast<uint64_t>(inject_)) {
+    uint64_t w[32];
+    std::memcpy(w, u.data, sizeof(uint64_t) * (nin + nout));
+    w[nin + (u.op == Op::Box ? 1 : u.op == Op::Tri ? 2 : 0)] ^= 1;  // box t_enter, tri t, noise value
+    put(w, sizeof(uint64_t) * (nin + nout));
+  } else {
+    put(u.data, sizeof(uint64_t) * (nin + nout));
+  }
+  ++sent_;
+}
+
+Outcome Client::finish(uint64_t last_cycle) {
+  Outcome o;
+  if (!failed_) {
+    Record r{};
+    r.cycle = last_cycle;
+    r.op = kEndOp;
+    put(&r, sizeof r);
+    flush();
+  }
+  ::close(to_);
+  to_ = -1;
+  std::string text = read_all(from_);
+  ::close(from_);
+  from_ = -1;
+  int st = 0;
+  ::waitpid(pid_, &st, 0);
+  pid_ = -1;
+  while (!text.empty() && text.back() == '\n') text.pop_back();
+  const bool exited_ok = WIFEXITED(st) && WEXITSTATUS(st) == 0;
+  o.ok = exited_ok && text.rfind("DONE", 0) == 0;
+  o.summary = text.empty() ? "the co-simulation process ended without a verdict (status " + std::to_string(st) + ")"
+                           : text;
+  if (o.ok) {
+    const auto p = text.find("compared=");
+    if (p != std::string::npos) o.compared = std::strtoull(text.c_str() + p + 9, nullptr, 10);
+  }
+  return o;
+}
+
+}  // namespace ru::trax::cosim

@@ -1,0 +1,231 @@
+// TRaX model studies (issue 7 section 5); see rayunits/trax/studies.hpp.
+#include "rayunits/trax/studies.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+#include <stdexcept>
+
+#include "rayunits/render/render.hpp"
+#include "rayunits/trax/trax.hpp"
+
+namespace ru::trax {
+
+const std::vector<std::string> kStudyKinds = {"formats", "rays", "traversal", "noise", "units"};
+const std::vector<std::string> kDefaultFormats = {"e5m8",  "e5m10", "e5m11", "e6m12", "e6m14",
+                                                  "e7m16", "e8m19", "e8m23"};
+
+namespace {
+
+std::string f(double v, const char* fmt = "%.4g") {
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  char b[64];
+  std::snprintf(b, sizeof b, fmt, v);
+  return b;
+}
+std::string i(uint64_t v) { return std::to_string(v); }
+
+void say(const StudyOptions& o, const std::string& m) {
+  if (o.log) o.log(m);
+}
+
+RunOptions quiet_run() {
+  RunOptions r;
+  return r;
+}
+
+// rays/s per 10^6 NAND2-eq
+double per_area(const TraxResult& r) { return r.area.total > 0 ? r.rays_per_second() / (r.area.total / 1e6) : 0; }
+
+std::string source_of(const TraxResult& r, const std::string& unit) {
+  for (const auto& a : r.area_sources)
+    if (a.unit == unit) return a.how;
+  return "";
+}
+
+StudyTable formats(const scene::Scene& s, const StudyOptions& o) {
+  StudyTable t;
+  t.kind = "formats";
+  t.title = "Whole-chip speed/accuracy trade (scene " + s.name + ", " + std::to_string(o.width) + "x" +
+            std::to_string(o.height) + ")";
+  t.cols = {"format", "bits", "cycles", "rays", "rays_per_s", "area_nand2", "unit_area_nand2",
+            "rays_per_s_per_mnand2", "error_pixels", "error_pct", "psnr_db", "tolerated", "box_latency",
+            "tri_latency", "box_area_source", "tri_area_source"};
+  Config rc = o.base;
+  render::RenderOptions ro = render_options(rc, o.width, o.height);
+  ro.format = "double";
+  ro.threads = 2;
+  say(o, "reference render in double");
+  const render::Image ref = render::render(s, ro);
+  const auto& list = o.formats.empty() ? kDefaultFormats : o.formats;
+  for (const std::string& fm : list) {
+    Config c = o.base;
+    c.format = fm;
+    say(o, "format " + fm);
+    const TraxResult r = run_trax(s, c, o.width, o.height, quiet_run());
+    const render::ImageDiff d = render::compare(r.image, ref);
+    const double pct = d.pixels ? 100.0 * double(d.errors) / double(d.pixels) : 0;
+    const bool ok = pct <= 0.1 && d.psnr >= 40.0;
+    const num::Format F = num::Format::parse(fm == "float" ? "e8m23" : fm);
+    t.rows.push_back({fm, i(F.width()), i(r.sim.cycles), i(r.rays()), f(r.rays_per_second()), f(r.area.total, "%.0f"),
+                      f(r.area.units, "%.0f"), f(per_area(r)), i(d.errors), f(pct, "%.3f"), f(d.psnr, "%.2f"),
+                      ok ? "yes" : "no", i(r.cfg.unit(Unit::Box).latency), i(r.cfg.unit(Unit::Tri).latency),
+                      source_of(r, "ray_box"), source_of(r, r.cfg.tri == "mt" ? "ray_tri_mt" : "ray_tri_robust")});
+  }
+  t.note = "Every FP operation, the box/triangle units and the noise unit compute in the format; the image error is "
+           "against the same renderer in double (pixels with a channel more than 10 % off; PSNR, peak 1). "
+           "\"tolerated\": <= 0.1 % error pixels and PSNR >= 40 dB (the target of `rayunits profile`). Area: "
+           "units (Yosys NAND2-eq from model/data/trax/areas.json: measured rows, box/tri composed from the FP rows "
+           "where not measured) plus register files, local stores and caches (docs/TRAX.md); rays/s at the "
+           "configured clock, which does not change with the format here.";
+  return t;
+}
+
+StudyTable rays(const scene::Scene& s, const StudyOptions& o) {
+  StudyTable t;
+  t.kind = "rays";
+  t.title = "Coherent vs incoherent rays (scene " + s.name + ")";
+  t.cols = {"workload", "rays", "primary", "secondary", "cycles", "rays_per_s", "cycles_per_ray",
+            "box_tests_per_ray", "l1_hit_pct", "l2_hit_pct", "issue_rate", "secondary_rays_per_s"};
+  uint64_t primary_cycles = 0;
+  for (const std::string w : {"primary", "shadow", "diffuse"}) {
+    RunOptions ro;
+    ro.workload = w;
+    say(o, "workload " + w);
+    const TraxResult r = run_trax(s, o.base, o.width, o.height, ro);
+    if (w == "primary") primary_cycles = r.sim.cycles;
+    const uint64_t sec = r.shadow_rays + r.bounce_rays;
+    const double extra = double(r.sim.cycles) - double(primary_cycles);
+    const double sec_rate = (sec && extra > 0) ? double(sec) / (extra / (r.cfg.clock_mhz * 1e6)) : 0;
+    t.rows.push_back({w, i(r.rays()), i(r.primary_rays), i(sec), i(r.sim.cycles), f(r.rays_per_second()),
+                      f(double(r.sim.cycles) * r.cfg.threads() / std::max<uint64_t>(1, r.rays()), "%.1f"),
+                      f(double(r.box_tests) / std::max<uint64_t>(1, r.rays()), "%.2f"),
+                      f(100 * r.sim.l1.hit_rate(), "%.2f"), f(100 * r.sim.l2.hit_rate(), "%.2f"),
+                      f(r.sim.issue_rate(r.cfg), "%.3f"), w == "primary" ? "" : f(sec_rate)});
+  }
+  t.note = "primary: one primary ray per pixel (closest hit, no shading); shadow: + a hard-shadow ray to the point "
+           "light per hit (any hit); diffuse: + one diffuse bounce per hit in a per-pixel pseudo-random direction "
+           "(closest hit; incoherent). cycles_per_ray = TP-cycles per ray; secondary_rays_per_s = the secondary "
+           "rays over the cycles they add to the primary-only run.";
+  return t;
+}
+
+StudyTable traversal(const scene::Scene& s, const StudyOptions& o) {
+  StudyTable t;
+  t.kind = "traversal";
+  t.title = "Stack vs stackless traversal (scene " + s.name + ")";
+  t.cols = {"traversal", "cycles", "rays_per_s", "instructions", "box_tests", "node_visits", "up_steps",
+            "local_store_used_bytes", "local_store_bytes", "max_live_registers", "area_nand2", "rays_per_s_per_mnand2"};
+  for (const std::string tv : {"stack", "stackless"}) {
+    Config c = o.base;
+    c.traversal = tv;
+    if (tv == "stackless") c.local_store_bytes = 0;  // no stack: no local store
+    say(o, "traversal " + tv);
+    const TraxResult r = run_trax(s, c, o.width, o.height, quiet_run());
+    t.rows.push_back({tv, i(r.sim.cycles), f(r.rays_per_second()), i(r.sim.instructions), i(r.box_tests),
+                      i(r.node_visits), i(r.up_steps), i(8ull * r.max_stack), i(c.local_store_bytes),
+                      i(r.sim.max_live_registers), f(r.area.total, "%.0f"), f(per_area(r))});
+  }
+  t.note = "The same triangles are tested in the same order by both (images equal); stackless re-tests the far "
+           "sibling's box and loads parent links instead of keeping a stack, and is charged no local store "
+           "(stack: the configured local store per thread).";
+  return t;
+}
+
+StudyTable noise(const scene::Scene& s, const StudyOptions& o) {
+  StudyTable t;
+  t.kind = "noise";
+  t.title = "Hardware noise unit vs noise in software on the TPs (scene " + s.name + ")";
+  t.cols = {"noise", "cycles", "rays_per_s", "instructions", "noise_evals", "instructions_per_noise",
+            "area_nand2", "noise_unit_area_nand2", "rays_per_s_per_mnand2"};
+  uint64_t hw_instr = 0;
+  for (const bool sw : {false, true}) {
+    RunOptions ro;
+    ro.software_noise = sw;
+    say(o, sw ? "software noise" : "hardware noise");
+    const TraxResult r = run_trax(s, o.base, o.width, o.height, ro);
+    if (!sw) hw_instr = r.sim.instructions;
+    const uint64_t evals = sw ? r.software_noise_evals : r.noise_evals;
+    double unit_area = 0;
+    for (const auto& a : r.area.items)
+      if (a.name == "unit noise") unit_area = a.total();
+    t.rows.push_back({sw ? "software (TPs)" : "hardware unit", i(r.sim.cycles), f(r.rays_per_second()),
+                      i(r.sim.instructions), i(evals),
+                      sw && evals ? f(double(r.sim.instructions - hw_instr) / double(evals) + 1, "%.1f") : "1",
+                      f(r.area.total, "%.0f"), f(unit_area, "%.0f"), f(per_area(r))});
+  }
+  t.note = "Software: the unit's algorithm as TP instructions in the chip's format (per evaluation ~200 "
+           "instructions incl. 30 table loads; docs/TRAX.md), timing only (values from the hardware model); the "
+           "noise unit is then not instantiated nor charged. Kensler (sec. 4) suggests up to 50 % faster shading "
+           "with the unit for noise-heavy scenes.";
+  return t;
+}
+
+StudyTable units(const scene::Scene& s, const StudyOptions& o) {
+  StudyTable t;
+  t.kind = "units";
+  t.title = "FP adder/multiplier count sweep (scene " + s.name + ")";
+  t.cols = {"fp_units_per_tm", "threads_per_fp_unit", "cycles", "rays_per_s", "area_nand2", "rays_per_s_per_mnand2",
+            "fp_add_util_pct", "fp_mul_util_pct", "contention_stall_pct"};
+  for (int n = 1; n <= o.base.tps_per_tm; n *= 2) {
+    Config c = o.base;
+    c.unit(Unit::FpAdd).count = n;
+    c.unit(Unit::FpMul).count = n;
+    say(o, "fp units per TM " + std::to_string(n));
+    const TraxResult r = run_trax(s, c, o.width, o.height, quiet_run());
+    const double tpc = double(r.sim.cycles) * c.threads();
+    t.rows.push_back({i(n), f(double(c.tps_per_tm) / n, "%g"), i(r.sim.cycles), f(r.rays_per_second()),
+                      f(r.area.total, "%.0f"), f(per_area(r)), f(100 * r.sim.utilisation(r.cfg, Unit::FpAdd), "%.1f"),
+                      f(100 * r.sim.utilisation(r.cfg, Unit::FpMul), "%.1f"),
+                      f(tpc > 0 ? 100.0 * r.sim.stall_contention / tpc : 0, "%.2f")});
+  }
+  t.note = "fp_add and fp_mul count per TM varied together (simtrax 65 nm: one of each per 8 threads); every other "
+           "unit as configured.";
+  return t;
+}
+
+std::string csv_cell(const std::string& v) {
+  if (v.find_first_of(",\"") == std::string::npos) return v;
+  std::string o = "\"";
+  for (char c : v) o += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return o + "\"";
+}
+
+}  // namespace
+
+std::string StudyTable::csv() const {
+  std::ostringstream o;
+  for (size_t k = 0; k < cols.size(); ++k) o << (k ? "," : "") << cols[k];
+  o << "\n";
+  for (const auto& r : rows) {
+    for (size_t k = 0; k < r.size(); ++k) o << (k ? "," : "") << csv_cell(r[k]);
+    o << "\n";
+  }
+  return o.str();
+}
+
+std::string StudyTable::markdown() const {
+  std::ostringstream o;
+  o << "|";
+  for (const auto& c : cols) o << " " << c << " |";
+  o << "\n|";
+  for (size_t k = 0; k < cols.size(); ++k) o << (k ? "---:|" : "---|");
+  o << "\n";
+  for (const auto& r : rows) {
+    o << "|";
+    for (const auto& v : r) o << " " << v << " |";
+    o << "\n";
+  }
+  return o.str();
+}
+
+StudyTable run_study(const std::string& kind, const scene::Scene& s, const StudyOptions& o) {
+  if (kind == "formats") return formats(s, o);
+  if (kind == "rays") return rays(s, o);
+  if (kind == "traversal") return traversal(s, o);
+  if (kind == "noise") return noise(s, o);
+  if (kind == "units") return units(s, o);
+  throw std::invalid_argument("unknown study '" + kind + "' (accepted: formats, rays, traversal, noise, units)");
+}
+
+}  // namespace ru::trax

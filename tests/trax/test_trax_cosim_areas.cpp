@@ -1,0 +1,305 @@
+// TRaX model: RTL-derived latencies, the area table, the issue observer of the co-simulation
+// (hand-computed schedule, operand records against the golden models), study workloads.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+
+#include "rayunits/noise/fixed.hpp"
+#include "rayunits/num/fp.hpp"
+#include "rayunits/scene/scene.hpp"
+#include "rayunits/trax/cosim.hpp"
+#include "rayunits/trax/trax.hpp"
+#include "rayunits/units/ray_box.hpp"
+#include "rayunits/units/ray_tri.hpp"
+
+using namespace ru::trax;
+
+// Box: add + mul + 3 cmp; robust: 4 add + 2 mul + div + cmp; mt: 5 add + 3 mul + div + cmp.
+// Defaults 2, 2, 16, 1: box 2+2+3 = 7, robust 8+4+16+1 = 29, mt 10+6+16+1 = 33 (the Stages
+// tb/trax builds); with add 3, mul 4, div 10, cmp 2: box 3+4+6 = 13, robust 12+8+10+2 = 32,
+// mt 15+12+10+2 = 39.
+TEST(TraxRtl, LatencyFollowsTheUnitsFpLevels) {
+  Config c = default_config();
+  EXPECT_EQ(c.unit(Unit::Box).latency, kLatencyRtl);
+  EXPECT_EQ(rtl_latency(c, Unit::Box), 7);
+  EXPECT_EQ(rtl_latency(c, Unit::Tri), 29);
+  EXPECT_EQ(rtl_latency(c, Unit::Noise), 4);
+  c.tri = "mt";
+  EXPECT_EQ(rtl_latency(c, Unit::Tri), 33);
+  c.unit(Unit::FpAdd).latency = 3;
+  c.unit(Unit::FpMul).latency = 4;
+  c.unit(Unit::FpDiv).latency = 10;
+  c.unit(Unit::FpCmp).latency = 2;
+  EXPECT_EQ(rtl_latency(c, Unit::Box), 13);
+  EXPECT_EQ(rtl_latency(c, Unit::Tri), 39);
+  c.tri = "robust";
+  EXPECT_EQ(rtl_latency(c, Unit::Tri), 32);
+  const Config r = resolve_config(c);
+  EXPECT_EQ(r.unit(Unit::Box).latency, 13);
+  EXPECT_EQ(r.unit(Unit::Tri).latency, 32);
+  // an explicit latency is kept
+  c.unit(Unit::Box).latency = 5;
+  EXPECT_EQ(resolve_config(c).unit(Unit::Box).latency, 5);
+}
+
+namespace {
+// A private area table (RU_TRAX_AREAS) for the duration of a test.
+struct AreaTable {
+  std::string path;
+  explicit AreaTable(const std::string& name, const std::string& json) {
+    path = ::testing::TempDir() + "/" + name;
+    std::ofstream(path) << json;
+    setenv("RU_TRAX_AREAS", path.c_str(), 1);
+  }
+  ~AreaTable() { unsetenv("RU_TRAX_AREAS"); }
+};
+std::string row(const char* unit, const char* fmt, int stages, double area) {
+  return std::string("{\"unit\": \"") + unit + "\", \"format\": \"" + fmt + "\", \"stages\": " +
+         std::to_string(stages) + ", \"area_nand2\": " + std::to_string(area) + ", \"command\": \"test\"}";
+}
+}  // namespace
+
+// Composition and scaling by hand: add 100, mul 1000, div 5000, cmp 10 (e8m23, Stages 2 2 16 1):
+//   box = 6*100 + 6*1000 + 7*10 = 6670; robust = 43*100 + 39*1000 + 3*5000 + 20*10 = 58500;
+//   mt = 24*100 + 27*1000 + 5000 + 5*10 = 34450. e5m10 from the e8m23 rows: add, cmp by width
+//   16/32 -> 50, 5; mul by (11/24)^2 -> 210.0694..; div: Stages 14 (e5m10's maximum) from the
+//   Stages-16 row (closest), (11/24)^2 -> 1050.347..
+TEST(TraxAreas, MeasuredComposedAndScaledRows) {
+  AreaTable t("areas_a.json", "{\"rows\": [" + row("fp_add", "e8m23", 2, 100) + ", " + row("fp_mul", "e8m23", 2, 1000) +
+                                  ", " + row("fp_div", "e8m23", 16, 5000) + ", " + row("fp_cmp", "e8m23", 1, 10) +
+                                  ", " + row("noise", "-", 4, 777) + "]}");
+  Config c = default_config();
+  std::vector<AreaSource> src;
+  Config r = resolve_config(c, &src);
+  EXPECT_EQ(r.unit(Unit::FpAdd).area, 100);
+  EXPECT_EQ(r.unit(Unit::FpSqrt).area, 5000);
+  EXPECT_EQ(r.unit(Unit::Noise).area, 777);
+  EXPECT_EQ(r.unit(Unit::Box).area, 6670);
+  EXPECT_EQ(r.unit(Unit::Tri).area, 58500);
+  EXPECT_EQ(r.unit(Unit::Conv).area, 1500);  // a number: kept
+  bool composed = false;
+  for (const auto& s : src) composed = composed || (s.unit == "ray_box" && s.how == "composed");
+  EXPECT_TRUE(composed);
+  c.tri = "mt";
+  EXPECT_EQ(resolve_config(c).unit(Unit::Tri).area, 34450);
+  c.format = "e5m10";
+  r = resolve_config(c);
+  EXPECT_DOUBLE_EQ(r.unit(Unit::FpAdd).area, 50);
+  EXPECT_DOUBLE_EQ(r.unit(Unit::FpCmp).area, 5);
+  EXPECT_NEAR(r.unit(Unit::FpMul).area, 1000.0 * 121 / 576, 1e-9);
+  EXPECT_NEAR(r.unit(Unit::FpDiv).area, 5000.0 * 121 / 576, 1e-9);
+  EXPECT_NEAR(r.unit(Unit::Box).area, 6 * 50 + 6 * 1000.0 * 121 / 576 + 7 * 5, 1e-9);  // plain composition
+}
+
+// A measured box row (e8m23, Stages 7) = 2 x its composition 6670: another format's box is its
+// composition scaled by the same factor 2 (e5m10: 2 x (6*50 + 6*1000*121/576 + 7*5)).
+TEST(TraxAreas, CompositionScaledToAMeasuredRow) {
+  AreaTable t("areas_c.json", "{\"rows\": [" + row("fp_add", "e8m23", 2, 100) + ", " + row("fp_mul", "e8m23", 2, 1000) +
+                                  ", " + row("fp_div", "e8m23", 16, 5000) + ", " + row("fp_cmp", "e8m23", 1, 10) +
+                                  ", " + row("noise", "-", 4, 777) + ", " + row("ray_box", "e8m23", 7, 13340) + "]}");
+  Config c = default_config();
+  EXPECT_EQ(resolve_config(c).unit(Unit::Box).area, 13340);
+  c.format = "e5m10";
+  EXPECT_NEAR(resolve_config(c).unit(Unit::Box).area, 2 * (6 * 50 + 6 * 1000.0 * 121 / 576 + 7 * 5), 1e-9);
+}
+
+TEST(TraxAreas, MissingRowIsOneLineNamingIt) {
+  AreaTable t("areas_b.json", "{\"rows\": [" + row("fp_add", "e8m23", 2, 100) + "]}");
+  try {
+    resolve_config(default_config());
+    FAIL() << "no error";
+  } catch (const ConfigError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("no row for fp_mul e8m23 Stages 2"), std::string::npos) << m;
+    EXPECT_EQ(m.find('\n'), std::string::npos);
+  }
+  Config c = default_config();
+  for (int u = 0; u < kUnits; ++u) c.units[u].area = 1;  // numbers: the table is not needed
+  EXPECT_NO_THROW(resolve_config(c));
+}
+
+TEST(TraxConfig, RtlAndSynthKeywords) {
+  auto msg = [](const std::string& text) -> std::string {
+    try {
+      parse_config(text, "t.toml");
+    } catch (const ConfigError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  EXPECT_EQ(msg("[units.box]\nlatency = \"rtl\"\narea = \"synth\"\n"), "");
+  EXPECT_EQ(parse_config("[units.tri]\nlatency = 12\n", "t").unit(Unit::Tri).latency, 12);
+  EXPECT_NE(msg("[units.fp_add]\nlatency = \"rtl\"\n").find("key 'units.fp_add.latency'"), std::string::npos);
+  EXPECT_NE(msg("[units.conv]\narea = \"synth\"\n").find("key 'units.conv.area'"), std::string::npos);
+  EXPECT_NE(msg("[units.box]\nlatency = \"fast\"\n").find("key 'units.box.latency'"), std::string::npos);
+}
+
+// ------------------------------------------------------------------ the issue observer
+namespace {
+struct Seen {
+  uint64_t cycle;
+  int tp, slot;
+  uint64_t index;
+};
+struct Recorder : IssueObserver {
+  std::vector<Seen> v;
+  void issue(const UnitIssue& u) override { v.push_back({u.cycle, u.tp, u.slot, u.index}); }
+};
+}  // namespace
+
+// 1 TM, 2 TPs, box latency 4, 2 items; each item: 3 independent BOX ops (no sources).
+//   cycle 0: TP0 atomic (item 0).  cycle 1: TP1 atomic (item 1; the atomic unit is chip-wide,
+//   one per cycle); TP0 box #0.  cycle 2 (priority TP0): TP0 box #1, TP1 box #0.
+//   count 1: cycle 2 TP0 slot 0, TP1 contention; cycle 3 (priority TP1): TP1 box #0 slot 0,
+//   TP0 waits; cycle 4 (TP0 first): TP0 box #2, TP1 waits; cycle 5: TP1 box #1; cycle 6: TP1 box #2.
+//   count 2: cycle 2: TP0 #1 slot 0, TP1 #0 slot 1; cycle 3 (TP1 first): TP1 #1 slot 0, TP0 #2 slot 1;
+//   cycle 4: TP1 #2 slot 0.
+TEST(TraxObserver, HandScheduleOfUnitIssues) {
+  Config c = default_config();
+  c.tms = 1;
+  c.tps_per_tm = 2;
+  c.unit(Unit::Box).latency = 4;
+  auto work = [] {
+    return FunctionWork(2, [](uint64_t, Thread& t) {
+      for (int k = 0; k < 3; ++k) t.emit(Op::Box, {});
+    });
+  };
+  c.unit(Unit::Box).count = 1;
+  {
+    Recorder rec;
+    FunctionWork w = work();
+    const SimStats s = simulate(c, w, false, &rec);
+    const std::vector<Seen> want = {{1, 0, 0, 0}, {2, 0, 0, 1}, {3, 1, 0, 0}, {4, 0, 0, 2}, {5, 1, 0, 1}, {6, 1, 0, 2}};
+    ASSERT_EQ(rec.v.size(), want.size());
+    for (size_t i = 0; i < want.size(); ++i) {
+      EXPECT_EQ(rec.v[i].cycle, want[i].cycle) << i;
+      EXPECT_EQ(rec.v[i].tp, want[i].tp) << i;
+      EXPECT_EQ(rec.v[i].slot, want[i].slot) << i;
+      EXPECT_EQ(rec.v[i].index, want[i].index) << i;
+    }
+    EXPECT_EQ(s.observed, 6u);
+  }
+  c.unit(Unit::Box).count = 2;
+  {
+    Recorder rec;
+    FunctionWork w = work();
+    simulate(c, w, false, &rec);
+    const std::vector<Seen> want = {{1, 0, 0, 0}, {2, 0, 0, 1}, {2, 1, 1, 0}, {3, 1, 0, 1}, {3, 0, 1, 2}, {4, 1, 0, 2}};
+    ASSERT_EQ(rec.v.size(), want.size());
+    for (size_t i = 0; i < want.size(); ++i) {
+      EXPECT_EQ(rec.v[i].cycle, want[i].cycle) << i;
+      EXPECT_EQ(rec.v[i].tp, want[i].tp) << i;
+      EXPECT_EQ(rec.v[i].slot, want[i].slot) << i;
+    }
+  }
+}
+
+namespace {
+// Recomputes every recorded BOX / TRI from its recorded inputs with the golden models and
+// compares with the recorded outputs (the record layout the companion relies on).
+struct Checker : IssueObserver {
+  ru::num::Format fmt;
+  bool mt = false, swap_box_planes = false;
+  uint64_t boxes = 0, tris = 0, noises = 0, bad = 0;
+  void issue(const UnitIssue& u) override {
+    using ru::num::Soft;
+    ru::num::SoftScope scope(fmt);
+    auto S = [&](int k) { return Soft::from_bits(u.data[k]); };
+    auto V = [&](int k) { return ru::units::Vec3<Soft>{S(k), S(k + 1), S(k + 2)}; };
+    if (u.op == Op::Box) {
+      ++boxes;
+      const auto r = swap_box_planes ? ru::units::ray_box(V(0), V(3), V(9), V(6), S(12), S(13))
+                                     : ru::units::ray_box(V(0), V(3), V(6), V(9), S(12), S(13));
+      if (uint64_t(r.hit) != u.data[14] || r.t_enter.bits != u.data[15] || r.t_exit.bits != u.data[16]) ++bad;
+    } else if (u.op == Op::Tri) {
+      ++tris;
+      const auto r = mt ? ru::units::ray_tri_mt(V(0), V(3), V(6), V(9), V(12), S(15), S(16))
+                        : ru::units::ray_tri_robust(V(0), V(3), V(6), V(9), V(12), S(15), S(16));
+      if (uint64_t(r.hit) != u.data[17] || uint64_t(r.why) != u.data[18] || r.t.bits != u.data[19] ||
+          r.beta.bits != u.data[20] || r.gamma.bits != u.data[21])
+        ++bad;
+    } else {
+      ++noises;
+      static const ru::noise::FixedNoise fx{ru::noise::FixedConfig{}};
+      auto sx = [](uint64_t w) { return static_cast<int64_t>(w << 48) >> 48; };  // 16-bit words
+      if ((static_cast<uint64_t>(fx.eval(sx(u.data[0]), sx(u.data[1]), sx(u.data[2]))) & 1023) != u.data[3]) ++bad;
+    }
+  }
+};
+}  // namespace
+
+TEST(TraxObserver, OperandRecordsReproduceTheGoldenResults) {
+  Config c = default_config();
+  c.tms = 2;
+  c.tps_per_tm = 8;
+  c.format = "e6m12";
+  const ru::scene::Scene s = ru::scene::make_scene("default");
+  Checker k;
+  k.fmt = ru::num::Format::parse("e6m12");
+  RunOptions ro;
+  ro.observer = &k;
+  const TraxResult r = run_trax(s, c, 8, 8, ro);
+  EXPECT_EQ(k.bad, 0u);
+  EXPECT_EQ(k.boxes, r.box_tests);
+  EXPECT_EQ(k.tris, r.tri_tests);
+  EXPECT_EQ(k.noises, r.noise_evals);
+  EXPECT_GT(k.noises, 0u);
+  EXPECT_EQ(r.sim.observed, k.boxes + k.tris + k.noises);
+  // Planted error: the checker with the box planes swapped must disagree.
+  Checker p;
+  p.fmt = k.fmt;
+  p.swap_box_planes = true;
+  ro.observer = &p;
+  run_trax(s, c, 8, 8, ro);
+  EXPECT_GT(p.bad, 0u);
+}
+
+TEST(TraxCosim, MissingCompanionIsOneLine) {
+  cosim::Client cl("/nonexistent/tb_trax_cosim");
+  try {
+    cl.start(resolve_config(default_config()));
+    FAIL() << "no error";
+  } catch (const std::runtime_error& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("is not built"), std::string::npos) << m;
+    EXPECT_EQ(m.find('\n'), std::string::npos);
+  }
+  EXPECT_EQ(cosim::header_line(resolve_config(default_config())),
+            "rayunits-trax-cosim 1 format=e8m23 tms=4 box=plain:7:2 tri=robust:29:1 noise=fixed:4:1");
+}
+
+// ------------------------------------------------------------------ study workloads
+TEST(TraxStudies, SoftwareNoiseAndRayWorkloads) {
+  Config c = default_config();
+  c.tms = 2;
+  c.tps_per_tm = 8;
+  const ru::scene::Scene s = ru::scene::make_scene("default");
+  RunOptions ro;
+  const TraxResult hw = run_trax(s, c, 8, 8, ro);
+  ro.software_noise = true;
+  const TraxResult sw = run_trax(s, c, 8, 8, ro);
+  EXPECT_EQ(sw.image.rgb, hw.image.rgb);  // same values, other instructions
+  EXPECT_EQ(sw.software_noise_evals, hw.noise_evals);
+  EXPECT_EQ(sw.sim.unit_ops[static_cast<int>(Unit::Noise)], 0u);
+  EXPECT_GT(sw.sim.instructions, hw.sim.instructions + 150 * hw.noise_evals);
+  for (const auto& it : sw.area.items) EXPECT_EQ(it.name.find("noise"), std::string::npos);
+  ro.software_noise = false;
+  ro.workload = "primary";
+  const TraxResult p = run_trax(s, c, 8, 8, ro);
+  EXPECT_EQ(p.primary_rays, 64u);
+  EXPECT_EQ(p.shadow_rays + p.bounce_rays, 0u);
+  uint64_t hits = 0;
+  for (size_t i = 0; i < p.image.rgb.size(); i += 3) hits += p.image.rgb[i] > 0;
+  ro.workload = "shadow";
+  const TraxResult sh = run_trax(s, c, 8, 8, ro);
+  EXPECT_EQ(sh.shadow_rays, hits);
+  ro.workload = "diffuse";
+  const TraxResult d = run_trax(s, c, 8, 8, ro);
+  EXPECT_EQ(d.bounce_rays, hits);
+  EXPECT_GT(d.sim.cycles, p.sim.cycles);
+  ro.workload = "bogus";
+  EXPECT_THROW(run_trax(s, c, 8, 8, ro), std::invalid_argument);
+}
