@@ -196,13 +196,18 @@ std::string code_block(const std::string& cmd) { return "```sh\n" + cmd + "\n```
 
 std::string threads_arg(const Context& ctx) { return std::to_string(std::max(1u, std::min(ctx.threads(), 64u))); }
 
+// Which tool steps a sweep runs (Xilinx never: the report does not show it).
+enum class Flow { Generic, Ice40Luts, Ice40Fmax };
+
 // Runs `rayunits synth-sweep` into <dir>/<sub>; returns the command line.
 std::string run_sweep(Context& ctx, const std::string& sub, const std::string& units, const std::string& formats,
-                      const std::string& stages, bool fpga) {
+                      const std::string& stages, Flow flow) {
   std::vector<std::string> a{"--out", ctx.path(sub).string(), "--units", units, "--stages", stages, "-j",
-                             threads_arg(ctx), "--no-xilinx"};
+                             threads_arg(ctx)};
   if (!formats.empty()) a.insert(a.end(), {"--formats", formats});
-  if (fpga) a.push_back("--fpga");
+  if (flow == Flow::Generic) a.push_back("--generic-only");
+  if (flow != Flow::Generic) a.push_back("--no-xilinx");
+  if (flow == Flow::Ice40Fmax) a.push_back("--fpga");
   if (!ctx.opts.plots) a.push_back("--no-plot");
   return run_captured(ctx, "synth-sweep", a, sub + ".txt");
 }
@@ -222,10 +227,10 @@ double area_of(const std::map<std::string, std::map<std::string, std::string>>& 
 }
 
 std::vector<std::string> synth_cells(const std::map<std::string, std::string>& r) {
-  const bool fits = get(r, "ice40_fits") == "1";
+  const bool ran = !get(r, "ice40_luts").empty(), fits = get(r, "ice40_fits") == "1";
+  const std::string luts = !ran ? "-" : fits ? get(r, "ice40_luts") : get(r, "ice40_luts") + " (does not fit)";
   return {fmt("%.0f", num(r, "area_nand2")), get(r, "reg_bits"), get(r, "depth"), fmt("%.0f", num(r, "fmax_est_mhz")),
-          fits ? get(r, "ice40_luts") : "does not fit",
-          fits ? fmt("%.1f", num(r, "ice40_fmax_mhz")) : "-"};
+          luts, fits ? fmt("%.1f", num(r, "ice40_fmax_mhz")) : "-"};
 }
 
 // ---- section: synthesis -----------------------------------------------------------------------
@@ -235,7 +240,7 @@ std::string synthesis_section(Context& ctx) {
   const std::string formats = ctx.param("synthesis.formats", "e5m10,e6m12,e7m16,e8m23");
   const std::string stages = ctx.param("synthesis.stages", "0,2,4");
   const bool fpga = ctx.param("synthesis.fpga", "1") != "0";
-  const std::string cmd = run_sweep(ctx, "synth", units, formats, stages, fpga);
+  const std::string cmd = run_sweep(ctx, "synth", units, formats, stages, fpga ? Flow::Ice40Fmax : Flow::Ice40Luts);
   const Csv csv = read_csv(ctx.path("synth") / "synth_sweep.csv");
 
   std::string md =
@@ -372,7 +377,7 @@ std::string intersection_section(Context& ctx) {
 
   // 4. Area of the units: robust vs MT.
   if (synth) {
-    cmd = run_sweep(ctx, "ray_synth", "ray_box,ray_tri_robust,ray_tri_mt", synth_formats, "0", false);
+    cmd = run_sweep(ctx, "ray_synth", "ray_box,ray_tri_robust,ray_tri_mt", synth_formats, "0", Flow::Generic);
     const auto rows = sweep_rows(ctx, "ray_synth");
     Table t;
     std::stringstream fl(synth_formats);
@@ -420,8 +425,8 @@ std::string noise_section(Context& ctx) {
 
   if (synth) {
     // Table 4.1 in this flow: the unit by pipeline depth, and the e8m23 FP units beside it.
-    cmd = run_sweep(ctx, "noise_synth", "noise", "", stages, true);
-    const std::string cmd2 = run_sweep(ctx, "noise_fp_synth", "fp_add,fp_mul,fp_dot3", "e8m23", "0", false);
+    cmd = run_sweep(ctx, "noise_synth", "noise", "", stages, Flow::Ice40Luts);  // it does not fit an iCE40
+    const std::string cmd2 = run_sweep(ctx, "noise_fp_synth", "fp_add,fp_mul,fp_dot3", "e8m23", "0", Flow::Generic);
     const Csv c = read_csv(ctx.path("noise_synth") / "synth_sweep.csv");
     Table t;
     for (const auto& r : c.rows) {
