@@ -2,14 +2,24 @@
 #pragma once
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <string>
+#include <vector>
 
 #include "command.hpp"
 
 namespace ru::cli {
+
+// Median of timing samples (benchmarks report medians, see README).
+inline double median(std::vector<double> v) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
 
 // Parses argv with CLI11. Returns true if the command should run; false if help was printed
 // (the caller returns 0). A parse error becomes a UsageError: main() prints it as one line.

@@ -10,12 +10,6 @@
 namespace ru::cli {
 namespace {
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 int run_bench_render(int argc, char** argv) {
   CLI::App app{"Render benchmark: native float frames/s (512x512, hard shadows, 2 threads) and the slowdown of an "
                "emulated format on the same scene, in one run; medians over repeats"};

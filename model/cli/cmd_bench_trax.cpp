@@ -14,12 +14,6 @@
 namespace ru::cli {
 namespace {
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 int run_bench_trax(int argc, char** argv) {
   CLI::App app{"TRaX model benchmark: simulated thread-instructions/s on one host core (functional execution in "
                "the emulated format included) and the --cosim slowdown on the same frame, medians over repeats"};

@@ -16,6 +16,7 @@
 #include <sstream>
 
 #include "ray.hpp"
+#include "rayunits/tb/fp.hpp"  // fp_text
 #include "rayunits/num/fp.hpp"
 #include "rayunits/tb/testing.hpp"
 #include "rayunits/units/ray_box.hpp"
@@ -93,23 +94,6 @@ void unpack(const uint64_t* w, int n, int W, uint64_t* x) {
   }
 }
 
-std::string fp_text(const Format& f0, uint64_t v) {
-  Format f = f0;
-  f.subnormals = true;  // show the encoded value
-  using ru::num::Class;
-  switch (ru::num::classify(f, v)) {
-    case Class::QNaN: return (v & f.sign_bit()) ? "-qNaN" : "qNaN";
-    case Class::SNaN: return (v & f.sign_bit()) ? "-sNaN" : "sNaN";
-    case Class::PosInf: return "+inf";
-    case Class::NegInf: return "-inf";
-    case Class::PosZero: return "+0";
-    case Class::NegZero: return "-0";
-    default: break;
-  }
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.9g", ru::num::to_double(f, v));
-  return buf;
-}
 
 }  // namespace
 

@@ -113,7 +113,7 @@ void FpAdapter::model(const Record& in, Record& out) {
   out.v[1] = r.flags;
 }
 
-static std::string fp_text(const Format& f0, uint64_t v) {
+std::string fp_text(const Format& f0, uint64_t v) {
   Format f = f0;
   f.subnormals = true;  // show the encoded value, also for flush-to-zero formats
   using ru::num::Class;

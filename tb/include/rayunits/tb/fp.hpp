@@ -39,6 +39,10 @@ ru::num::Format fp_format(const ConfigDesc& cfg);
 // "e8m23 rne", "e5m10-ftz rtz"
 std::string fp_format_name(const ru::num::Format& f);
 
+// A format value for mismatch reports: "+inf", "-qNaN", "+0", or the decimal value with enough
+// digits to identify it (", subnormal" appended for subnormal encodings, also in FTZ formats).
+std::string fp_text(const ru::num::Format& f, uint64_t v);
+
 class FpAdapter final : public UnitAdapter {
  public:
   FpAdapter(const FpUnitSpec& spec, const ru::num::Format& f, int stages);
