@@ -530,6 +530,25 @@ TEST_F(Cli, ReportStudySections) {
   EXPECT_FALSE(fs::exists(bad));
 }
 
+// The sections' synthesis parts with plots (slow: Yosys on the noise unit and the ray units):
+// the noise sweep has no FP format to plot, the ray sweep does.
+using LongCli = Cli;
+TEST_F(LongCli, ReportSynthesisPartsWithPlots) {
+  TempDir t;
+  fs::path out = t.path() / "rep";
+  Proc r = run("report --quiet --out " + quote(out.string()) +
+               " --sections noise,intersection --param noise.size=64 --param noise.error_samples=2000"
+               " --param noise.range_samples=20000 --param noise.stages=0 --param intersection.tri_pairs=256"
+               " --param intersection.box_pairs=2000 --param intersection.rays=400"
+               " --param intersection.watertight_formats=e5m10 --param intersection.synth_formats=e4m3");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string idx = read_file(out / "index.md");
+  EXPECT_NE(idx.find("Ratios (combinational, Stages 0): noise / e8m23 fp_add = "), std::string::npos) << idx;
+  EXPECT_NE(idx.find("| e4m3 |"), std::string::npos) << idx;  // robust vs MT area row
+  EXPECT_TRUE(fs::exists(out / "noise_synth" / "synth_sweep.csv"));
+  EXPECT_TRUE(fs::exists(out / "ray_synth" / "synth_sweep.png"));
+}
+
 // ------------------------------------------------------------------------------ bench fp
 TEST_F(Cli, BenchFpPrintsTheRatioLineLast) {
   Proc r = run("bench fp --format e5m10 --n 512 --reps 1 --min-time 0.001 --no-oracle");
