@@ -147,14 +147,37 @@ Image render_t(const scene::Scene& s, const RenderOptions& opt, const num::Forma
       const int tile = next_tile.fetch_add(1);
       if (tile >= ntiles) break;
       const int x0 = (tile % tx) * kTile, y0 = (tile / tx) * kTile;
-      for (int y = y0; y < std::min(y0 + kTile, opt.height); ++y) {
-        const T py = fp_cast<T>(y + 0.5);
-        for (int x = x0; x < std::min(x0 + kTile, opt.width); ++x) {
-          const T px = fp_cast<T>(x + 0.5);
-          const Vec3<T> d = tr.primary_dir(px, py);
-          const Vec3<T> c = tr.shade_pixel(d);
-          float* out = img.at(x, y);
-          for (int k = 0; k < 3; ++k) out[k] = kernel::pixel_value(fp_to_double(c[k]));
+      const int x1 = std::min(x0 + kTile, opt.width), y1 = std::min(y0 + kTile, opt.height);
+      if constexpr (kernel::kNative<T>) {
+        // 2x2 pixel quads traced as packets (Tracer::shade_quad: each pixel's colour is the
+        // one shade_pixel gives it).
+        for (int y = y0; y < y1; y += 2)
+          for (int x = x0; x < x1; x += 2) {
+            Vec3<T> d[4], c[4];
+            unsigned lanes = 0;
+            for (int j = 0; j < 4; ++j) {
+              const int qx = x + (j & 1), qy = y + (j >> 1);
+              if (qx >= x1 || qy >= y1) continue;
+              lanes |= 1u << j;
+              d[j] = tr.primary_dir(fp_cast<T>(qx + 0.5), fp_cast<T>(qy + 0.5));
+            }
+            tr.shade_quad(d, lanes, c);
+            for (int j = 0; j < 4; ++j)
+              if (lanes >> j & 1u) {
+                float* out = img.at(x + (j & 1), y + (j >> 1));
+                for (int k = 0; k < 3; ++k) out[k] = kernel::pixel_value(fp_to_double(c[j][k]));
+              }
+          }
+      } else {
+        for (int y = y0; y < y1; ++y) {
+          const T py = fp_cast<T>(y + 0.5);
+          for (int x = x0; x < x1; ++x) {
+            const T px = fp_cast<T>(x + 0.5);
+            const Vec3<T> d = tr.primary_dir(px, py);
+            const Vec3<T> c = tr.shade_pixel(d);
+            float* out = img.at(x, y);
+            for (int k = 0; k < 3; ++k) out[k] = kernel::pixel_value(fp_to_double(c[k]));
+          }
         }
       }
       done_tiles.fetch_add(1);

@@ -24,6 +24,7 @@
 #include "rayunits/bvh/median.hpp"
 #include "rayunits/noise/fixed.hpp"
 #include "rayunits/noise/reference.hpp"
+#include "rayunits/render/pair_bvh.hpp"
 #include "rayunits/render/render.hpp"
 #include "rayunits/units/ray_box.hpp"
 #include "rayunits/units/ray_tri.hpp"
@@ -43,6 +44,9 @@ template <class T>
 struct KernelHooks {
   static constexpr bool enabled = false;
 };
+
+template <class T>
+constexpr bool kNative = std::is_same_v<T, float> || std::is_same_v<T, double>;
 
 // Colour channel of a pixel as stored in Image: NaN -> 0, clamped to [0, 1].
 inline float pixel_value(double v) {
@@ -95,6 +99,10 @@ struct Prepared {
   std::vector<NodeT<T>> nodes;
   int32_t root = 0;
   int depth = 1;
+  // Native types: the same tree with both children's boxes in their parent (pair_bvh.hpp),
+  // what the native traversal reads; empty when the tree cannot be encoded that way.
+  std::vector<PairNode<T>> pairs;
+  Kid root_kid;
   struct Mat {
     scene::MaterialKind kind;
     Vec3<T> c1, c2;
@@ -129,7 +137,7 @@ template <class T>
 class Tracer {
  public:
   Tracer(const Prepared<T>& p, const RenderOptions& o)
-      : P(p), opt(o), stack_(static_cast<size_t>(p.depth) + 2), noise_ref_(noise::builtin_tables(), 64),
+      : P(p), opt(o), stack_(static_cast<size_t>(p.depth) + 2), pbstack_(kNative<T> ? static_cast<size_t>(p.depth) + 2 : 0), noise_ref_(noise::builtin_tables(), 64),
         fixed_(noise::FixedConfig{}) {}
 
   Counters cnt;
@@ -152,11 +160,12 @@ class Tracer {
   // Closest hit in (tmin, tmax) (any hit when `any`): returns the leaf-order triangle or -1.
   // Native types: the unit models are inlined into the traversal loop (GCC `flatten`), so the
   // ray's loop-invariant work (NaN checks of origin and reciprocal) is hoisted out of it; the
-  // operations and their order are the models' own.
+  // operations and their order are the models' own. (The renderer traces native rays in
+  // packets, intersect_packet below, which falls back to this per ray.)
   int64_t intersect(const Ray& r, const T& tmin, T& tmax, bool any) {
     if constexpr (KernelHooks<T>::enabled)
       return KernelHooks<T>::intersect(*this, r, tmin, tmax, any);
-    else if constexpr (std::is_same_v<T, float> || std::is_same_v<T, double>)
+    else if constexpr (kNative<T>)
       return intersect_flat(r, tmin, tmax, any);
     else
       return intersect_impl(r, tmin, tmax, any);
@@ -172,6 +181,28 @@ class Tracer {
                                        fp_to_double(tmax)});
     const auto res = units::ray_box(r.o, r.inv, n.lo, n.hi, tmin, tmax, opt.box);
     *t_enter = res.t_enter;
+    return res.hit;
+  }
+  // One ray-triangle unit test of leaf-order triangle i (and its trace record): hit, and t.
+  bool tri_test(const Ray& r, uint32_t i, const T& tmin, const T& tmax, T* t_hit) {
+    const TriT<T>& t = P.tris[i];
+    ++cnt.tri;
+    if (trace && trace->room())
+      trace->w->write(units::TriRecord{vdbl(r.o), vdbl(r.d), vdbl(t.p0), vdbl(t.p1), vdbl(t.p2),
+                                       fp_to_double(tmin), fp_to_double(tmax)});
+    if constexpr (std::is_same_v<T, Probe>) {
+      if (detail::probe_sink) {
+        for (const Vec3<T>* v : {&r.o, &r.d, &t.p0, &t.p1, &t.p2})
+          for (int k = 0; k < 3; ++k) detail::probe_sink->inputs.add((*v)[k].v);
+      }
+    }
+    if (opt.tri == TriAlgo::Robust) {
+      const auto res = units::ray_tri_robust(r.o, r.d, t.p0, t.p1, t.p2, tmin, tmax);
+      *t_hit = res.t;
+      return res.hit;
+    }
+    const auto res = units::ray_tri_mt(r.o, r.d, t.p0, t.p1, t.p2, tmin, tmax);
+    *t_hit = res.t;
     return res.hit;
   }
 
@@ -223,29 +254,8 @@ class Tracer {
         }
       } else {
         for (uint32_t i = n.first; i < n.first + n.count; ++i) {
-          const TriT<T>& t = P.tris[i];
-          ++cnt.tri;
-          if (trace && trace->room())
-            trace->w->write(units::TriRecord{vdbl(r.o), vdbl(r.d), vdbl(t.p0), vdbl(t.p1), vdbl(t.p2),
-                                             fp_to_double(tmin), fp_to_double(tmax)});
-          if constexpr (std::is_same_v<T, Probe>) {
-            if (detail::probe_sink) {
-              for (const Vec3<T>* v : {&r.o, &r.d, &t.p0, &t.p1, &t.p2})
-                for (int k = 0; k < 3; ++k) detail::probe_sink->inputs.add((*v)[k].v);
-            }
-          }
-          bool h;
           T th;
-          if (opt.tri == TriAlgo::Robust) {
-            auto res = units::ray_tri_robust(r.o, r.d, t.p0, t.p1, t.p2, tmin, tmax);
-            h = res.hit;
-            th = res.t;
-          } else {
-            auto res = units::ray_tri_mt(r.o, r.d, t.p0, t.p1, t.p2, tmin, tmax);
-            h = res.hit;
-            th = res.t;
-          }
-          if (h) {
+          if (tri_test(r, i, tmin, tmax, &th)) {
             tmax = th;
             tmax_out = th;
             hit = i;
@@ -260,6 +270,138 @@ class Tracer {
         if (hit >= 0 && tmax < stack_[sp].t_enter) continue;
         node = stack_[sp].node;
         break;
+      }
+    }
+  }
+
+  // Up to four rays traced together (bit j of lanes: ray j present).
+  struct Packet {
+    Ray ray[4];
+    T tmin[4], tmax[4];  // tmax: in, and the closest (any: the first) hit's t out
+    int64_t hit[4] = {-1, -1, -1, -1};
+    unsigned lanes = 0;
+  };
+  // The packet's rays, each exactly as intersect() would trace it alone. A packet is traversed
+  // together when its rays share the signs of their directions (one octant): then the order in
+  // which intersect_impl visits a ray's nodes (near child first by the sign of d[axis], the
+  // other one from the stack) is one fixed depth-first order restricted to the nodes the ray's
+  // boxes hit, so the packet visits the union of the rays' nodes in that order and each ray
+  // sees its own tests in its own order (a ray is active at a node when it hit the node's box
+  // and, for a node taken from the stack, its own skip test fails; a ray whose tmax changed
+  // since the box test was active in between, so the skip test gives what it gives alone).
+  // Otherwise (mixed octants, NaN directions or interval ends, a trace, conservative boxes)
+  // every ray goes through intersect().
+  void intersect_packet(Packet& pk, bool any) {
+    bool together = !trace && !P.pairs.empty() && opt.box == units::BoxMode::Plain;
+    int oct = -1;
+    for (int j = 0; j < 4 && together; ++j) {
+      if (!(pk.lanes >> j & 1u)) continue;
+      const Ray& r = pk.ray[j];
+      if (r.d.x != r.d.x || r.d.y != r.d.y || r.d.z != r.d.z || pk.tmin[j] != pk.tmin[j] ||
+          pk.tmax[j] != pk.tmax[j]) {
+        together = false;
+        break;
+      }
+      const int o = int(num::fp_signbit(r.inv.x)) | int(num::fp_signbit(r.inv.y)) << 1 |
+                    int(num::fp_signbit(r.inv.z)) << 2;
+      if (oct >= 0 && o != oct) together = false;
+      oct = o;
+    }
+    if (!together || oct < 0) {
+      for (int j = 0; j < 4; ++j)
+        if (pk.lanes >> j & 1u) pk.hit[j] = intersect(pk.ray[j], pk.tmin[j], pk.tmax[j], any);
+      return;
+    }
+    switch (oct) {
+      case 0: return packet_traverse<0>(pk, any);
+      case 1: return packet_traverse<1>(pk, any);
+      case 2: return packet_traverse<2>(pk, any);
+      case 3: return packet_traverse<3>(pk, any);
+      case 4: return packet_traverse<4>(pk, any);
+      case 5: return packet_traverse<5>(pk, any);
+      case 6: return packet_traverse<6>(pk, any);
+      default: return packet_traverse<7>(pk, any);
+    }
+  }
+  template <int Oct>
+  __attribute__((flatten, noinline)) void packet_traverse(Packet& pk, bool any) {
+    typedef typename PacketRays<T>::VT VT;
+    // Absent lanes get a copy of a present ray (finite values; masked out everywhere).
+    const int first_lane = __builtin_ctz(pk.lanes);
+    PacketRays<T> pr;
+    for (int j = 0; j < 4; ++j) {
+      const int src = (pk.lanes >> j & 1u) ? j : first_lane;
+      pr.set(j, pk.ray[src].o, pk.ray[src].inv, pk.tmin[src], pk.tmax[src]);
+    }
+    unsigned active = 0;
+    for (int j = 0; j < 4; ++j) {
+      T te;
+      if ((pk.lanes >> j & 1u) && box_test(pk.ray[j], P.nodes[P.root], pk.tmin[j], pk.tmax[j], &te))
+        active |= 1u << j;
+    }
+    unsigned done = 0;   // any: rays with a hit (finished)
+    unsigned found = 0;  // rays with a hit so far
+    size_t sp = 0;
+    Kid cur = P.root_kid;
+    while (active) {
+      if (cur.cnt == 0) {
+        const PairNode<T>& n = P.pairs[cur.idx];
+        cnt.box += 2u * ((0x4332322132212110ull >> (4 * active)) & 15u);  // 2 x popcount of 4 bits
+        VT te[2];
+        unsigned h[2];
+        for (int c = 0; c < 2; ++c) {
+          unsigned bad;
+          h[c] = packet_box_test<T, Oct>(n, c, pr, active, &te[c], &bad);
+          for (unsigned m = bad; m; m &= m - 1) {
+            const int j = __builtin_ctz(m);
+            const Vec3<T> lo{n.b[0][c], n.b[1][c], n.b[2][c]}, hi{n.b[0][c + 2], n.b[1][c + 2], n.b[2][c + 2]};
+            const auto res = units::ray_box(pk.ray[j].o, pk.ray[j].inv, lo, hi, pk.tmin[j], pk.tmax[j],
+                                            units::BoxMode::Plain);
+            if (res.hit) h[c] |= 1u << j;
+            te[c][j] = res.t_enter;
+          }
+        }
+        if (h[0] | h[1]) {
+          if (h[0] && h[1]) {
+            const int near = (Oct >> n.axis) & 1;  // = sign bit of d[axis] of every ray
+            pbstack_[sp++] = {n.kid(1 - near), te[1 - near], h[1 - near]};
+            cur = n.kid(near);
+            active = h[near];
+          } else {
+            const int c = h[0] ? 0 : 1;
+            cur = n.kid(c);
+            active = h[c];
+          }
+          continue;
+        }
+      } else {
+        for (uint32_t i = uint32_t(cur.idx); i < uint32_t(cur.idx) + cur.cnt && active; ++i)
+          for (unsigned m = active; m; m &= m - 1) {
+            const int j = __builtin_ctz(m);
+            T th;
+            if (tri_test(pk.ray[j], i, pk.tmin[j], pk.tmax[j], &th)) {
+              pk.tmax[j] = th;
+              pr.t_max[j] = th;
+              pk.hit[j] = i;
+              found |= 1u << j;
+              if (any) {
+                done |= 1u << j;
+                active &= ~(1u << j);
+              }
+            }
+          }
+      }
+      active = 0;
+      while (sp > 0) {
+        --sp;
+        const auto& e = pbstack_[sp];
+        const unsigned skip = found & packet_lt_mask(pr.t_max, e.t_enter);
+        const unsigned m = e.mask & ~done & ~skip;
+        if (m) {
+          cur = e.kid;
+          active = m;
+          break;
+        }
       }
     }
   }
@@ -316,30 +458,92 @@ class Tracer {
     return vadd(M.c2, vscale(units::vsub(M.c1, M.c2), f));
   }
 
+  // The shading of a primary hit up to its shadow ray (shade_hit) and after it (shade_finish):
+  // shade_pixel() runs both around one shadow-ray query, shade_quad() runs four of each around
+  // one packet query. The operations and their order are those of one pixel either way.
+  struct Shading {
+    Vec3<T> color, C, N, ld;
+    T illum;
+    Ray shadow;  // set when opt.shadows
+  };
+  // false: the pixel's colour is final (sh->color); true: lit, shadow ray to be tested.
+  bool shade_hit(const Ray& r, int64_t hit, const T& t, Shading* sh) {
+    if (hit < 0) {
+      sh->color = {P.zero, P.zero, P.zero};
+      return false;
+    }
+    const TriT<T>& tri = P.tris[hit];
+    const Vec3<T> p = vadd(r.o, vscale(r.d, t));
+    Vec3<T> N = units::cross(units::vsub(tri.p1, tri.p0), units::vsub(tri.p2, tri.p0));
+    if (P.zero < units::dot(N, r.d)) N = vneg(N);  // face the viewer (a sign flip, no rounding)
+    sh->N = N;
+    sh->C = material_color(P.tri_mat[hit], p);
+    sh->color = vscale(sh->C, P.ka);
+    sh->ld = units::vsub(P.light, p);
+    sh->illum = units::dot(N, sh->ld);
+    if (!(P.zero < sh->illum)) return false;
+    if (opt.shadows) {
+      ++cnt.shadow;
+      sh->shadow = make_ray(p, sh->ld);
+    }
+    return true;
+  }
+  Vec3<T> shade_finish(const Shading& sh, bool occluded) const {
+    if (occluded) return sh.color;
+    const T illum = sh.illum / (fp_sqrt(units::dot(sh.ld, sh.ld)) * fp_sqrt(units::dot(sh.N, sh.N)));
+    return vadd(sh.color, vscale(sh.C, illum * P.kd));
+  }
+
   // Colour of the pixel whose primary ray direction is d.
   Vec3<T> shade_pixel(const Vec3<T>& d) {
     ++cnt.primary;
     const Ray r = make_ray(P.eye, d);
     T t = fp_cast<T>(HUGE_VAL);
     const int64_t hit = intersect(r, P.eps, t, false);
-    if (hit < 0) return {P.zero, P.zero, P.zero};
-    const TriT<T>& tri = P.tris[hit];
-    const Vec3<T> p = vadd(r.o, vscale(r.d, t));
-    Vec3<T> N = units::cross(units::vsub(tri.p1, tri.p0), units::vsub(tri.p2, tri.p0));
-    if (P.zero < units::dot(N, r.d)) N = vneg(N);  // face the viewer (a sign flip, no rounding)
-    const Vec3<T> C = material_color(P.tri_mat[hit], p);
-    Vec3<T> color = vscale(C, P.ka);
-    const Vec3<T> ld = units::vsub(P.light, p);
-    T illum = units::dot(N, ld);
-    if (!(P.zero < illum)) return color;
+    Shading sh;
+    if (!shade_hit(r, hit, t, &sh)) return sh.color;
+    bool occluded = false;
     if (opt.shadows) {
-      ++cnt.shadow;
-      const Ray s = make_ray(p, ld);
       T tmax = P.shadow_max;
-      if (intersect(s, P.shadow_min, tmax, true) >= 0) return color;
+      occluded = intersect(sh.shadow, P.shadow_min, tmax, true) >= 0;
     }
-    illum = illum / (fp_sqrt(units::dot(ld, ld)) * fp_sqrt(units::dot(N, N)));
-    return vadd(color, vscale(C, illum * P.kd));
+    return shade_finish(sh, occluded);
+  }
+
+  // Native types: the colours of up to four pixels (bit j of `lanes`: direction d[j] is
+  // present), primary and shadow rays traced as packets (intersect_packet). Each pixel gets
+  // exactly shade_pixel(d[j]): the same operations on the same values, the same counts.
+  void shade_quad(const Vec3<T>* d, unsigned lanes, Vec3<T>* out) {
+    Packet pk;
+    pk.lanes = lanes;
+    for (int j = 0; j < 4; ++j)
+      if (lanes >> j & 1u) {
+        ++cnt.primary;
+        pk.ray[j] = make_ray(P.eye, d[j]);
+        pk.tmin[j] = P.eps;
+        pk.tmax[j] = fp_cast<T>(HUGE_VAL);
+      }
+    intersect_packet(pk, false);
+    Shading sh[4];
+    Packet sp;
+    sp.lanes = 0;
+    for (int j = 0; j < 4; ++j)
+      if (lanes >> j & 1u) {
+        if (!shade_hit(pk.ray[j], pk.hit[j], pk.tmax[j], &sh[j])) {
+          out[j] = sh[j].color;
+        } else if (!opt.shadows) {
+          out[j] = shade_finish(sh[j], false);
+        } else {
+          sp.lanes |= 1u << j;
+          sp.ray[j] = sh[j].shadow;
+          sp.tmin[j] = P.shadow_min;
+          sp.tmax[j] = P.shadow_max;
+        }
+      }
+    if (!sp.lanes) return;
+    intersect_packet(sp, true);
+    for (int j = 0; j < 4; ++j)
+      if (sp.lanes >> j & 1u) out[j] = shade_finish(sh[j], sp.hit[j] >= 0);
   }
 
   const Prepared<T>& P;
@@ -351,6 +555,12 @@ class Tracer {
     T t_enter;
   };
   std::vector<Entry> stack_;
+  struct PacketEntry {
+    Kid kid;
+    typename VecOf<T>::type t_enter;
+    unsigned mask;
+  };
+  std::vector<PacketEntry> pbstack_;
   noise::NoiseRef noise_ref_;
   noise::FixedNoise fixed_;
 };
@@ -423,6 +633,9 @@ Prepared<T> prepare(const scene::Scene& s, const RenderOptions& opt, RenderStats
     return 1 + std::max(dl, dr);
   };
   if (n > 0) P.depth = rec(topo.root);
+  if constexpr (kNative<T>) {
+    if (n > 0) build_pairs<T>(P.nodes, P.root, &P.pairs, &P.root_kid);
+  }
   for (const auto& m : s.materials)
     P.mats.push_back({m.kind, vcast<T>(m.color), vcast<T>(m.color2), fp_cast<T>(m.frequency / s.unit)});
   // Camera (Mirth's pinhole): per-frame constants computed in double and rounded once into T.
