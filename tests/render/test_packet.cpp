@@ -336,3 +336,10 @@ TEST(PacketTraversal, PartialQuadsRenderLikeTheEmulatedFormat) {
   const Image c = render(s, d), g = render(s, x);
   EXPECT_EQ(std::memcmp(c.rgb.data(), g.rgb.data(), c.rgb.size() * sizeof(float)), 0);
 }
+
+// The CGAL bunny (75,408 triangles, the speed benchmark's scene).
+TEST(LongPacketTraversal, BunnyEqualsOneRayTraversal) {
+  if (ru::scene::find_demo_mesh("bunny").empty()) GTEST_SKIP() << "libcgal-demo not installed (scripts/install-deps.sh --long)";
+  for (TriAlgo t : {TriAlgo::Robust, TriAlgo::MT}) check_scene<float>("bunny", "float", t);
+  check_scene<double>("bunny", "double", TriAlgo::Robust);
+}
