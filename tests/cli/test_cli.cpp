@@ -561,4 +561,20 @@ TEST_F(Cli, BenchFpPrintsTheRatioLineLast) {
   expect_one_line_error(run("bench fp --format e1m2"), "invalid format");
 }
 
+// bench render: the native line, the emulated ratio line, the target verdicts only at the
+// issue's setting, and one-line errors.
+TEST_F(Cli, BenchRenderSmallScene) {
+  Proc r = run("bench render --scene default --size 32x24 --repeats 3 --emulated e5m10 --threads 2");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(native float: median [0-9.]+ s/frame over 3 = [0-9.]+ frames/s)")))
+      << r.out;
+  EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(emulated e5m10: median [0-9.]+ s/frame over 1 = [0-9.]+x native wall-clock)")))
+      << r.out;
+  EXPECT_NE(r.out.find("n/a for these settings"), std::string::npos) << r.out;
+  EXPECT_TRUE(std::regex_search(r.out, std::regex(R"(768 primary \+ [0-9]+ shadow rays)"))) << r.out;
+  expect_one_line_error(run("bench render --scene default --emulated e1m2"), "invalid format");
+  expect_one_line_error(run("bench render --scene nope"), "unknown scene");
+  expect_one_line_error(run("bench render --scene default --tri fast"), "unknown triangle test");
+}
+
 }  // namespace
