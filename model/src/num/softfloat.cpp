@@ -187,22 +187,9 @@ inline void normalize(const Format& f, Unpacked& u) {
   u.exp -= s;
 }
 
-uint64_t flush(const Format& f, uint64_t a) {
-  if (!f.subnormals && ((a >> f.frac_bits) & f.exp_field_max()) == 0) return a & f.sign_bit();
-  return a;
-}
-
-// Keys for ordering non-NaN values: total_key orders -0 < +0, value_key makes them equal.
-inline int64_t total_key(const Format& f, uint64_t a) {
-  a = flush(f, a);
-  const int64_t m = static_cast<int64_t>(a & ~f.sign_bit());
-  return (a & f.sign_bit()) ? -m - 1 : m;
-}
-inline int64_t value_key(const Format& f, uint64_t a) {
-  a = flush(f, a);
-  const int64_t m = static_cast<int64_t>(a & ~f.sign_bit());
-  return (a & f.sign_bit()) ? -m : m;
-}
+uint64_t flush(const Format& f, uint64_t a) { return detail::flush_operand(f, a); }
+using detail::total_key;  // keys for ordering non-NaN values (format.hpp)
+using detail::value_key;
 
 Result minmax(const Format& f, uint64_t a, uint64_t b, bool is_max) {
   const Unpacked x = unpack(f, a), y = unpack(f, b);
@@ -468,8 +455,5 @@ const char* class_name(Class c) {
   return names[static_cast<int>(c)];
 }
 
-bool is_nan(const Format& f, uint64_t a) {
-  return ((a >> f.frac_bits) & f.exp_field_max()) == f.exp_field_max() && (a & f.frac_mask()) != 0;
-}
 
 }  // namespace ru::num

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <cmath>
 #include <cstdio>
 #include <functional>
@@ -124,6 +125,8 @@ Image render_t(const scene::Scene& s, const RenderOptions& opt, const num::Forma
   const int tx = (opt.width + kTile - 1) / kTile, ty = (opt.height + kTile - 1) / kTile;
   const int ntiles = tx * ty;
   std::atomic<int> next_tile{0}, done_tiles{0};
+  std::mutex done_mtx;
+  std::condition_variable done_cv;
 
   std::unique_ptr<units::TraceWriter> writer;
   TraceSink sink;
@@ -180,7 +183,10 @@ Image render_t(const scene::Scene& s, const RenderOptions& opt, const num::Forma
           }
         }
       }
-      done_tiles.fetch_add(1);
+      if (done_tiles.fetch_add(1) + 1 == ntiles) {
+        std::lock_guard<std::mutex> g(done_mtx);
+        done_cv.notify_all();
+      }
     }
     env.finish(st, mtx);
     std::lock_guard<std::mutex> g(mtx);
@@ -193,9 +199,11 @@ Image render_t(const scene::Scene& s, const RenderOptions& opt, const num::Forma
   std::vector<std::thread> pool;
   for (int i = 0; i < threads; ++i) pool.emplace_back(worker);
   if (opt.progress) {
+    // Woken by the last worker, so the render's wall time is not rounded up to a poll period.
     auto last = std::chrono::steady_clock::now();
+    std::unique_lock<std::mutex> lk(done_mtx);
     while (done_tiles.load() < ntiles) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+      done_cv.wait_for(lk, std::chrono::milliseconds(100));
       auto now = std::chrono::steady_clock::now();
       if (std::chrono::duration<double>(now - last).count() >= 2.0) {
         last = now;

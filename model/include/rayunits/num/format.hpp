@@ -103,6 +103,26 @@ Result dot3(const Format& f, const uint64_t a[3], const uint64_t b[3]);
 // -0 < +0, invalid only for a signaling NaN operand. FTZ formats flush subnormal operands first.
 Result min(const Format& f, uint64_t a, uint64_t b);
 Result max(const Format& f, uint64_t a, uint64_t b);
+
+namespace detail {
+// FTZ formats read a subnormal operand as a zero of its sign.
+inline uint64_t flush_operand(const Format& f, uint64_t a) {
+  if (!f.subnormals && ((a >> f.frac_bits) & f.exp_field_max()) == 0) return a & f.sign_bit();
+  return a;
+}
+// Integer keys of non-NaN values (after flushing): total_key orders -0 < +0 (min/max),
+// value_key makes them equal (comparisons).
+inline int64_t total_key(const Format& f, uint64_t a) {
+  a = flush_operand(f, a);
+  const int64_t m = static_cast<int64_t>(a & ~f.sign_bit());
+  return (a & f.sign_bit()) ? -m - 1 : m;
+}
+inline int64_t value_key(const Format& f, uint64_t a) {
+  a = flush_operand(f, a);
+  const int64_t m = static_cast<int64_t>(a & ~f.sign_bit());
+  return (a & f.sign_bit()) ? -m : m;
+}
+}  // namespace detail
 // Comparisons return bits 1 or 0. lt/le are signaling (invalid on any NaN operand);
 // eq and unordered are quiet (invalid only on a signaling NaN).
 Result lt(const Format& f, uint64_t a, uint64_t b);
@@ -130,7 +150,9 @@ enum class Class : uint8_t {
 };
 Class classify(const Format& f, uint64_t a);  // raw classification (no flushing)
 const char* class_name(Class c);
-bool is_nan(const Format& f, uint64_t a);
+inline bool is_nan(const Format& f, uint64_t a) {
+  return ((a >> f.frac_bits) & f.exp_field_max()) == f.exp_field_max() && (a & f.frac_mask()) != 0;
+}
 
 // Operation names used by the CLI (--batch), the harness and the reports.
 enum class Op : uint8_t { Add, Sub, Mul, Div, Sqrt, Fma, Min, Max, Lt, Le, Eq };
