@@ -37,6 +37,18 @@ TEST(UnitsSoft, OperatorsAreTheFormatOps) {
       ASSERT_EQ(fp_min(x, y).bits, min(f, a, b).bits) << name;
       ASSERT_EQ(fp_max(x, y).bits, max(f, a, b).bits) << name;
       ASSERT_EQ(fp_abs(x).bits, abs(f, a)) << name;
+      // ... with the model's flags (min/max/< /<= decide non-NaN operands inline).
+      auto flags_of = [&](auto op) {
+        reset_soft_stats();
+        op();
+        const SoftStats st = soft_stats();
+        EXPECT_EQ(st.ops, 1u) << name;
+        return st.flags;
+      };
+      ASSERT_EQ(flags_of([&] { (void)(x < y); }), lt(f, a, b).flags) << name;
+      ASSERT_EQ(flags_of([&] { (void)(x <= y); }), le(f, a, b).flags) << name;
+      ASSERT_EQ(flags_of([&] { (void)fp_min(x, y); }), min(f, a, b).flags) << name;
+      ASSERT_EQ(flags_of([&] { (void)fp_max(x, y); }), max(f, a, b).flags) << name;
       for (Round r : {Round::RDN, Round::RUP, Round::RTZ}) {
         Format fr = f;
         fr.round = r;
