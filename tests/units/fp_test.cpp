@@ -37,7 +37,7 @@ TEST(UnitsSoft, OperatorsAreTheFormatOps) {
       ASSERT_EQ(fp_min(x, y).bits, min(f, a, b).bits) << name;
       ASSERT_EQ(fp_max(x, y).bits, max(f, a, b).bits) << name;
       ASSERT_EQ(fp_abs(x).bits, abs(f, a)) << name;
-      // ... with the model's flags (min/max/< /<= decide non-NaN operands inline).
+      // ... and each records the model's flags once in the thread's statistics.
       auto flags_of = [&](auto op) {
         reset_soft_stats();
         op();

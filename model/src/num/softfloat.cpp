@@ -188,8 +188,7 @@ inline void normalize(const Format& f, Unpacked& u) {
 }
 
 uint64_t flush(const Format& f, uint64_t a) { return detail::flush_operand(f, a); }
-using detail::total_key;  // keys for ordering non-NaN values (format.hpp)
-using detail::value_key;
+using detail::value_key;  // key for comparing non-NaN values (detail/fast_paths.hpp)
 
 Result minmax(const Format& f, uint64_t a, uint64_t b, bool is_max) {
   const Unpacked x = unpack(f, a), y = unpack(f, b);
@@ -198,9 +197,7 @@ Result minmax(const Format& f, uint64_t a, uint64_t b, bool is_max) {
   if (xn && yn) return {f.qnan(), fl};
   if (xn) return {flush(f, b), fl};
   if (yn) return {flush(f, a), fl};
-  const int64_t ka = total_key(f, a), kb = total_key(f, b);
-  const bool pick_b = is_max ? kb > ka : kb < ka;
-  return {flush(f, pick_b ? b : a), fl};
+  return {detail::minmax_ordered(f, a, b, is_max), fl};
 }
 
 enum class Rel { Lt, Le, Eq, Unord };
@@ -342,10 +339,10 @@ Result dot3(const Format& f, const uint64_t a[3], const uint64_t b[3]) {
   return y;
 }
 
-Result min(const Format& f, uint64_t a, uint64_t b) { return minmax(f, a, b, false); }
-Result max(const Format& f, uint64_t a, uint64_t b) { return minmax(f, a, b, true); }
-Result lt(const Format& f, uint64_t a, uint64_t b) { return compare(f, a, b, Rel::Lt); }
-Result le(const Format& f, uint64_t a, uint64_t b) { return compare(f, a, b, Rel::Le); }
+Result detail::min_general(const Format& f, uint64_t a, uint64_t b) { return minmax(f, a, b, false); }
+Result detail::max_general(const Format& f, uint64_t a, uint64_t b) { return minmax(f, a, b, true); }
+Result detail::lt_general(const Format& f, uint64_t a, uint64_t b) { return compare(f, a, b, Rel::Lt); }
+Result detail::le_general(const Format& f, uint64_t a, uint64_t b) { return compare(f, a, b, Rel::Le); }
 Result eq(const Format& f, uint64_t a, uint64_t b) { return compare(f, a, b, Rel::Eq); }
 Result unordered(const Format& f, uint64_t a, uint64_t b) { return compare(f, a, b, Rel::Unord); }
 uint64_t abs(const Format& f, uint64_t a) { return a & f.mask() & ~f.sign_bit(); }
@@ -454,6 +451,5 @@ const char* class_name(Class c) {
                                 "+subnormal", "+normal", "+inf", "snan", "qnan"};
   return names[static_cast<int>(c)];
 }
-
 
 }  // namespace ru::num

@@ -101,32 +101,14 @@ Result dot3(const Format& f, const uint64_t a[3], const uint64_t b[3]);
 
 // min/max: IEEE 754-2008 minNum/maxNum: a NaN operand is ignored (both NaN: canonical NaN),
 // -0 < +0, invalid only for a signaling NaN operand. FTZ formats flush subnormal operands first.
-Result min(const Format& f, uint64_t a, uint64_t b);
-Result max(const Format& f, uint64_t a, uint64_t b);
-
-namespace detail {
-// FTZ formats read a subnormal operand as a zero of its sign.
-inline uint64_t flush_operand(const Format& f, uint64_t a) {
-  if (!f.subnormals && ((a >> f.frac_bits) & f.exp_field_max()) == 0) return a & f.sign_bit();
-  return a;
-}
-// Integer keys of non-NaN values (after flushing): total_key orders -0 < +0 (min/max),
-// value_key makes them equal (comparisons).
-inline int64_t total_key(const Format& f, uint64_t a) {
-  a = flush_operand(f, a);
-  const int64_t m = static_cast<int64_t>(a & ~f.sign_bit());
-  return (a & f.sign_bit()) ? -m - 1 : m;
-}
-inline int64_t value_key(const Format& f, uint64_t a) {
-  a = flush_operand(f, a);
-  const int64_t m = static_cast<int64_t>(a & ~f.sign_bit());
-  return (a & f.sign_bit()) ? -m : m;
-}
-}  // namespace detail
+// min, max, lt and le are inline (two non-NaN operands decided in detail/fast_paths.hpp, the
+// NaN cases in softfloat.cpp).
+inline Result min(const Format& f, uint64_t a, uint64_t b);
+inline Result max(const Format& f, uint64_t a, uint64_t b);
 // Comparisons return bits 1 or 0. lt/le are signaling (invalid on any NaN operand);
 // eq and unordered are quiet (invalid only on a signaling NaN).
-Result lt(const Format& f, uint64_t a, uint64_t b);
-Result le(const Format& f, uint64_t a, uint64_t b);
+inline Result lt(const Format& f, uint64_t a, uint64_t b);
+inline Result le(const Format& f, uint64_t a, uint64_t b);
 Result eq(const Format& f, uint64_t a, uint64_t b);
 Result unordered(const Format& f, uint64_t a, uint64_t b);
 uint64_t abs(const Format& f, uint64_t a);  // clears the sign bit, no flags, no flushing

@@ -116,19 +116,8 @@ class Soft {
   Soft& operator/=(Soft b) { return *this = *this / b; }
 
   // IEEE comparisons: < <= > >= are signaling (invalid on NaN, false), == != are quiet.
-  // Two non-NaN operands (the common case) are compared inline with the keys lt/le use.
-  friend bool operator<(Soft a, Soft b) {
-    const Format& f = soft_format();
-    if (!is_nan(f, a.bits) && !is_nan(f, b.bits))
-      return cmp({detail::value_key(f, a.bits) < detail::value_key(f, b.bits) ? 1u : 0u, 0});
-    return cmp(lt(f, a.bits, b.bits));
-  }
-  friend bool operator<=(Soft a, Soft b) {
-    const Format& f = soft_format();
-    if (!is_nan(f, a.bits) && !is_nan(f, b.bits))
-      return cmp({detail::value_key(f, a.bits) <= detail::value_key(f, b.bits) ? 1u : 0u, 0});
-    return cmp(le(f, a.bits, b.bits));
-  }
+  friend bool operator<(Soft a, Soft b) { return cmp(lt(soft_format(), a.bits, b.bits)); }
+  friend bool operator<=(Soft a, Soft b) { return cmp(le(soft_format(), a.bits, b.bits)); }
   friend bool operator>(Soft a, Soft b) { return b < a; }
   friend bool operator>=(Soft a, Soft b) { return b <= a; }
   friend bool operator==(Soft a, Soft b) { return cmp(eq(soft_format(), a.bits, b.bits)); }
@@ -250,20 +239,8 @@ inline float fp_min(float a, float b) { return detail::native_minmax(a, b, false
 inline double fp_min(double a, double b) { return detail::native_minmax(a, b, false); }
 inline float fp_max(float a, float b) { return detail::native_minmax(a, b, true); }
 inline double fp_max(double a, double b) { return detail::native_minmax(a, b, true); }
-// Soft min/max: two non-NaN operands (the common case) inline, the same result as
-// ru::num::min/max (the pick in the total order after flushing, no flags); NaNs go there.
-inline Soft fp_min(Soft a, Soft b) {
-  const Format& f = soft_format();
-  if (!is_nan(f, a.bits) && !is_nan(f, b.bits))
-    return Soft::wrap({detail::flush_operand(f, detail::total_key(f, b.bits) < detail::total_key(f, a.bits) ? b.bits : a.bits), 0});
-  return Soft::wrap(min(f, a.bits, b.bits));
-}
-inline Soft fp_max(Soft a, Soft b) {
-  const Format& f = soft_format();
-  if (!is_nan(f, a.bits) && !is_nan(f, b.bits))
-    return Soft::wrap({detail::flush_operand(f, detail::total_key(f, b.bits) > detail::total_key(f, a.bits) ? b.bits : a.bits), 0});
-  return Soft::wrap(max(f, a.bits, b.bits));
-}
+inline Soft fp_min(Soft a, Soft b) { return Soft::wrap(min(soft_format(), a.bits, b.bits)); }
+inline Soft fp_max(Soft a, Soft b) { return Soft::wrap(max(soft_format(), a.bits, b.bits)); }
 
 // One subtraction / multiplication with an explicit rounding mode. For float/double this is
 // computed by the bit-exact format model at e8m23/e11m52 (native code cannot switch rounding

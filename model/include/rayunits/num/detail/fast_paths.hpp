@@ -1,4 +1,5 @@
-// Fast paths of add/sub and mul (included by format.hpp; do not include directly).
+// Fast paths of add/sub and mul, and min/max/lt/le of non-NaN operands (included by
+// format.hpp; do not include directly).
 //
 // They apply when both operands are normal, the result is normal and not next to overflow,
 // and M is small enough for 64-bit arithmetic; they compute exactly the bits and flags of the
@@ -15,6 +16,35 @@ namespace detail {
 Result add_general(const Format& f, uint64_t a, uint64_t b);
 Result sub_general(const Format& f, uint64_t a, uint64_t b);
 Result mul_general(const Format& f, uint64_t a, uint64_t b);
+Result min_general(const Format& f, uint64_t a, uint64_t b);  // every operand, NaNs included
+Result max_general(const Format& f, uint64_t a, uint64_t b);
+Result lt_general(const Format& f, uint64_t a, uint64_t b);
+Result le_general(const Format& f, uint64_t a, uint64_t b);
+
+// FTZ formats read a subnormal operand as a zero of its sign.
+inline uint64_t flush_operand(const Format& f, uint64_t a) {
+  if (!f.subnormals && ((a >> f.frac_bits) & f.exp_field_max()) == 0) return a & f.sign_bit();
+  return a;
+}
+// Integer keys of non-NaN values (after flushing): total_key orders -0 < +0 (min/max),
+// value_key makes them equal (comparisons).
+inline int64_t total_key(const Format& f, uint64_t a) {
+  a = flush_operand(f, a);
+  const int64_t m = static_cast<int64_t>(a & ~f.sign_bit());
+  return (a & f.sign_bit()) ? -m - 1 : m;
+}
+inline int64_t value_key(const Format& f, uint64_t a) {
+  a = flush_operand(f, a);
+  const int64_t m = static_cast<int64_t>(a & ~f.sign_bit());
+  return (a & f.sign_bit()) ? -m : m;
+}
+// minNum/maxNum of two non-NaN operands: the flushed operand that is smaller / larger in the
+// total order (a on a tie), no flags. The general path uses it too.
+inline uint64_t minmax_ordered(const Format& f, uint64_t a, uint64_t b, bool is_max) {
+  const int64_t ka = total_key(f, a), kb = total_key(f, b);
+  const bool pick_b = is_max ? kb > ka : kb < ka;
+  return flush_operand(f, pick_b ? b : a);
+}
 
 // Round-up decision for a kept value q with `rem` dropped bits whose half-way value is `half`
 // (see the truth table in docs/FORMAT.md). Branch-free for the data-dependent parts.
@@ -183,6 +213,22 @@ inline Result mul(const Format& f, uint64_t a, uint64_t b) {
   Result r;
   if (detail::dispatch_fast<detail::MulFastOp>(f, a, b, r)) return r;
   return detail::mul_general(f, a, b);
+}
+inline Result min(const Format& f, uint64_t a, uint64_t b) {
+  if (!is_nan(f, a) && !is_nan(f, b)) return {detail::minmax_ordered(f, a, b, false), 0};
+  return detail::min_general(f, a, b);
+}
+inline Result max(const Format& f, uint64_t a, uint64_t b) {
+  if (!is_nan(f, a) && !is_nan(f, b)) return {detail::minmax_ordered(f, a, b, true), 0};
+  return detail::max_general(f, a, b);
+}
+inline Result lt(const Format& f, uint64_t a, uint64_t b) {
+  if (!is_nan(f, a) && !is_nan(f, b)) return {detail::value_key(f, a) < detail::value_key(f, b) ? 1u : 0u, 0};
+  return detail::lt_general(f, a, b);
+}
+inline Result le(const Format& f, uint64_t a, uint64_t b) {
+  if (!is_nan(f, a) && !is_nan(f, b)) return {detail::value_key(f, a) <= detail::value_key(f, b) ? 1u : 0u, 0};
+  return detail::le_general(f, a, b);
 }
 
 }  // namespace ru::num
