@@ -53,7 +53,13 @@ module ru_fp_add #(
   localparam int unsigned ExpIW = ru_fp_pkg::exp_iw(ExpW, FracW);
   localparam logic [63:0] Cuts = ru_fp_pkg::sel_mask(
       CutSel, ru_fp_pkg::add_seg_w(ExpW, FracW, Subnormals), ru_fp_pkg::add_nseg(), Stages);
+  // Useful maximum of Stages (a register at every cut position) and the registers placed at the
+  // output (Stages - popcount(Cuts); with automatic placement: those beyond MaxUsefulStages).
+  localparam int unsigned MaxUsefulStages = ru_fp_pkg::max_useful(ru_fp_pkg::add_nseg());
   localparam int unsigned OutRegs = ru_fp_pkg::out_regs(Cuts, Stages);
+  if (CutSel[63] && OutRegs != ru_fp_pkg::extra_regs(Stages, MaxUsefulStages)) begin : gen_out_check
+    $error("ru_fp_add: internal error: %0d output registers at Stages %0d", OutRegs, Stages);
+  end
   // special-case bundle {nan, invalid, inf, inf_sign}
   localparam int unsigned SpW = 4;
 

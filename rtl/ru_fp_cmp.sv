@@ -45,7 +45,13 @@ module ru_fp_cmp #(
   localparam int unsigned W = 1 + ExpW + FracW;
   localparam logic [63:0] Cuts = ru_fp_pkg::sel_mask(
       CutSel, ru_fp_pkg::cmp_seg_w(ExpW, FracW), ru_fp_pkg::cmp_nseg(), Stages);
+  // Useful maximum of Stages (a register at every cut position) and the registers placed at the
+  // output (Stages - popcount(Cuts); with automatic placement: those beyond MaxUsefulStages).
+  localparam int unsigned MaxUsefulStages = ru_fp_pkg::max_useful(ru_fp_pkg::cmp_nseg());
   localparam int unsigned OutRegs = ru_fp_pkg::out_regs(Cuts, Stages);
+  if (CutSel[63] && OutRegs != ru_fp_pkg::extra_regs(Stages, MaxUsefulStages)) begin : gen_out_check
+    $error("ru_fp_cmp: internal error: %0d output registers at Stages %0d", OutRegs, Stages);
+  end
   localparam int unsigned ClsW = 4;  // {nan, snan, zero, sign}
 
   // ---- seg 0: unpack, flush, classify ------------------------------------------------------

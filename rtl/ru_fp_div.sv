@@ -50,7 +50,13 @@ module ru_fp_div #(
   localparam logic [63:0] Cuts = ru_fp_pkg::sel_mask(
       CutSel, ru_fp_pkg::div_seg_w(ExpW, FracW, Subnormals), ru_fp_pkg::div_nseg(FracW),
       Stages);
+  // Useful maximum of Stages (a register at every cut position) and the registers placed at the
+  // output (Stages - popcount(Cuts); with automatic placement: those beyond MaxUsefulStages).
+  localparam int unsigned MaxUsefulStages = ru_fp_pkg::max_useful(ru_fp_pkg::div_nseg(FracW));
   localparam int unsigned OutRegs = ru_fp_pkg::out_regs(Cuts, Stages);
+  if (CutSel[63] && OutRegs != ru_fp_pkg::extra_regs(Stages, MaxUsefulStages)) begin : gen_out_check
+    $error("ru_fp_div: internal error: %0d output registers at Stages %0d", OutRegs, Stages);
+  end
   localparam int signed Bias = (1 << (ExpW - 1)) - 1;
   // side information: {sign, exp, nan, invalid, inf, divzero, zero}
   localparam int unsigned AuxW = ExpIW + 6;

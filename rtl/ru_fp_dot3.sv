@@ -44,7 +44,13 @@ module ru_fp_dot3 #(
   localparam int unsigned La = ru_fp_pkg::add_nseg();
   localparam logic [63:0] Cuts = ru_fp_pkg::cut_mask(
       ru_fp_pkg::dot3_seg_w(ExpW, FracW, Subnormals), ru_fp_pkg::dot3_nseg(FracW), Stages);
+  // Useful maximum of Stages (a register at every cut position of the chain) and the registers
+  // placed at the output (those beyond MaxUsefulStages).
+  localparam int unsigned MaxUsefulStages = ru_fp_pkg::max_useful(ru_fp_pkg::dot3_nseg(FracW));
   localparam int unsigned OutRegs = ru_fp_pkg::out_regs(Cuts, Stages);
+  if (OutRegs != ru_fp_pkg::extra_regs(Stages, MaxUsefulStages)) begin : gen_out_check
+    $error("ru_fp_dot3: internal error: %0d output registers at Stages %0d", OutRegs, Stages);
+  end
   // per-instance masks (bit 63 clear = explicit) and latencies
   localparam logic [63:0] MulCuts = Cuts & ((64'd1 << (Lm - 1)) - 64'd1);
   localparam logic [63:0] Add1Cuts = (Cuts >> Lm) & ((64'd1 << (La - 1)) - 64'd1);

@@ -327,4 +327,17 @@ package ru_fp_pkg;
     out_regs = (stages > popcount(mask)) ? stages - popcount(mask) : 0;
   endfunction
 
+  // Useful maximum of Stages for a chain of nseg segments: one register at each of its nseg-1
+  // cut positions (every unit's localparam MaxUsefulStages).
+  function automatic int unsigned max_useful(input int unsigned nseg);
+    max_useful = (nseg > 0) ? nseg - 1 : 0;
+  endfunction
+
+  // Registers that no cut position is left for: Stages - MaxUsefulStages beyond the maximum,
+  // else 0. With automatic placement this equals out_regs(cut_mask(..), Stages) (cut_mask fills
+  // every cut position before the output gets a register; the units check it).
+  function automatic int unsigned extra_regs(input int unsigned stages, input int unsigned max_u);
+    extra_regs = (stages > max_u) ? stages - max_u : 0;
+  endfunction
+
 endpackage

@@ -64,7 +64,10 @@ module ru_noise #(
       (Stages == 4) ? 7'b1011010 :
       (Stages == 5) ? 7'b1011101 :
       (Stages == 6) ? 7'b1111101 : 7'b1111111;
-  localparam int unsigned Extra = (Stages > 7) ? Stages - 7 : 0;
+  // Useful maximum of Stages (every cut point registered) and the registers placed at the
+  // output beyond it (Stages - MaxUsefulStages, else 0).
+  localparam int unsigned MaxUsefulStages = $bits(Cuts);
+  localparam int unsigned OutRegs = (Stages > MaxUsefulStages) ? Stages - MaxUsefulStages : 0;
 
   // ru_noise_gq: one stored Q1.16 gradient component narrowed to GradW bits (a constant
   // function: its arguments in ru_noise_grad are literals, so synthesis folds it).
@@ -303,18 +306,18 @@ module ru_noise #(
     .clk_i, .rst_ni, .valid_i(l6_valid_q), .data_i(l7_d), .valid_o(l7_valid_q), .data_o(l7_q));
 
   // ------------------------------------------------------------------------------------------
-  // Extra output registers for Stages > 7.
-  logic [Extra:0]          x_valid;
-  logic [(Extra+1)*OutW-1:0] x_data;
+  // Output registers for Stages > MaxUsefulStages.
+  logic [OutRegs:0]          x_valid;
+  logic [(OutRegs+1)*OutW-1:0] x_data;
   assign x_valid[0]       = l7_valid_q;
   assign x_data[0+:OutW]  = l7_q;
-  for (genvar s = 0; s < Extra; s++) begin : g_extra
+  for (genvar s = 0; s < OutRegs; s++) begin : g_extra
     ru_noise_cut #(.Width(OutW), .Reg(1'b1)) u_cut (
       .clk_i, .rst_ni, .valid_i(x_valid[s]), .data_i(x_data[s*OutW+:OutW]),
       .valid_o(x_valid[s+1]), .data_o(x_data[(s+1)*OutW+:OutW]));
   end
 
-  assign out_valid_o = x_valid[Extra];
-  assign value_o     = x_data[Extra*OutW+:OutW];
+  assign out_valid_o = x_valid[OutRegs];
+  assign value_o     = x_data[OutRegs*OutW+:OutW];
 
 endmodule

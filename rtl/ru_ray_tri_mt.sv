@@ -71,6 +71,13 @@ module ru_ray_tri_mt #(
       ru_fp_pkg::cmp_seg_w(ExpW, FracW), ru_fp_pkg::div_seg_w(ExpW, FracW, Subnormals),
       ru_fp_pkg::mul_seg_w(ExpW, FracW, Subnormals), ru_fp_pkg::add_seg_w(ExpW, FracW, Subnormals)};
   localparam logic [255:0] Cuts = ru_ray_tri_pkg::unit_cuts(Kinds, NLev, NSegs, Wts, Stages);
+  // Useful maximum of Stages (a register at every cut position of the level chain) and the
+  // registers placed at the output of the last level (those beyond MaxUsefulStages).
+  localparam int unsigned MaxUsefulStages = ru_ray_tri_pkg::unit_max_useful(Kinds, NLev, NSegs);
+  localparam int unsigned OutRegs = ru_ray_tri_pkg::unit_out_regs(Cuts, Stages);
+  if (OutRegs != ((Stages > MaxUsefulStages) ? Stages - MaxUsefulStages : 0)) begin : gen_out_check
+    $error("ru_ray_tri_mt: internal error: %0d output registers at Stages %0d", OutRegs, Stages);
+  end
   localparam logic [63:0] C0 = ru_ray_tri_pkg::level_cuts(Cuts, Kinds, NSegs, 0);
   localparam logic [63:0] C1 = ru_ray_tri_pkg::level_cuts(Cuts, Kinds, NSegs, 1);
   localparam logic [63:0] C2 = ru_ray_tri_pkg::level_cuts(Cuts, Kinds, NSegs, 2);

@@ -109,6 +109,60 @@ package ru_ray_tri_pkg;
     pack_cuts = m;
   endfunction
 
+  function automatic int unsigned popcount(input logic [MaxSeg:0] m);
+    int unsigned c;
+    c = 0;
+    for (int unsigned i = 0; i < MaxSeg; i++) c += 32'(m[i]);
+    popcount = c;
+  endfunction
+
+  // ru_fp_pkg::split_heaviest over whole-unit masks: one more cut in the heaviest stage that
+  // still has an unused cut position, at its most balanced position.
+  function automatic logic [MaxSeg:0] split_heaviest(input logic [MaxSeg*SegWW-1:0] w,
+                                                     input int unsigned nseg,
+                                                     input logic [MaxSeg:0] m);
+    int unsigned start, acc, best_w, best_start, best_end, left, cost, best_cost;
+    logic [7:0] best_pos;
+    logic [MaxSeg:0] r;
+    r = m;
+    best_w = 0;
+    best_start = 0;
+    best_end = 0;
+    start = 0;
+    acc = 0;
+    for (int unsigned i = 0; i < MaxSeg; i++) begin
+      if (i < nseg) begin
+        acc += 32'(w[i*SegWW+:SegWW]);
+        if (i + 1 == nseg || m[i]) begin
+          if (i > start && acc > best_w) begin
+            best_w = acc;
+            best_start = start;
+            best_end = i;
+          end
+          start = i + 1;
+          acc = 0;
+        end
+      end
+    end
+    if (best_w > 0) begin
+      left = 0;
+      best_cost = best_w + 1;
+      best_pos = 8'(best_start);
+      for (int unsigned i = 0; i < MaxSeg; i++) begin
+        if (i >= best_start && i < best_end) begin
+          left += 32'(w[i*SegWW+:SegWW]);
+          cost = (left > best_w - left) ? left : best_w - left;
+          if (cost < best_cost) begin
+            best_cost = cost;
+            best_pos = 8'(i);
+          end
+        end
+      end
+      r[best_pos] = 1'b1;
+    end
+    split_heaviest = r;
+  endfunction
+
   // Cut positions 0 .. nseg-2 (bit MaxSeg always clear in the result).
   function automatic logic [MaxSeg:0] cut_mask(input logic [MaxSeg*SegWW-1:0] w,
                                                input int unsigned nseg,
@@ -127,14 +181,10 @@ package ru_ray_tri_pkg;
     end
     m = pack_cuts(w, nseg, stages, lo);
     m[MaxSeg] = 1'b0;
+    // registers left over: split the heaviest stage that still has an unused cut (as
+    // ru_fp_pkg::cut_mask), so only Stages beyond nseg-1 reach the output
+    for (int unsigned extra = popcount(m); extra < stages; extra++) m = split_heaviest(w, nseg, m);
     cut_mask = (stages == 0) ? '0 : m;
-  endfunction
-
-  function automatic int unsigned popcount(input logic [MaxSeg:0] m);
-    int unsigned c;
-    c = 0;
-    for (int unsigned i = 0; i < MaxSeg; i++) c += 32'(m[i]);
-    popcount = c;
   endfunction
 
   function automatic int unsigned popcount64(input logic [63:0] m);
@@ -142,6 +192,21 @@ package ru_ray_tri_pkg;
     c = 0;
     for (int unsigned i = 0; i < 63; i++) c += 32'(m[i]);
     popcount64 = c;
+  endfunction
+
+  // Useful maximum of Stages of a unit: the number of cut positions of its level chain.
+  function automatic int unsigned unit_max_useful(input logic [4*MaxLev-1:0] kinds,
+                                                  input int unsigned nlev,
+                                                  input logic [31:0] nsegs);
+    int unsigned n;
+    n = level_base(kinds, nsegs, nlev);
+    unit_max_useful = (n > 0) ? n - 1 : 0;
+  endfunction
+
+  // Registers at the output of the last level: those no cut position is left for.
+  function automatic int unsigned unit_out_regs(input logic [MaxSeg:0] cuts,
+                                                input int unsigned stages);
+    unit_out_regs = (stages > popcount(cuts)) ? stages - popcount(cuts) : 0;
   endfunction
 
   // The unit's cut mask for Stages.
