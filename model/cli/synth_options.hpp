@@ -1,0 +1,180 @@
+// CLI11 options shared by `synth`, `gen` and `synth-sweep` (cmd_synth.cpp, cmd_gen.cpp,
+// cmd_synth_sweep.cpp): the flow options, the unit configuration options, their hand-laid help
+// texts and the error lines these commands have always printed ("unknown option '--x'",
+// "--stages expects an integer in 0..1000, got 'x'", ...).
+#pragma once
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "cli_util.hpp"
+#include "command.hpp"
+#include "rayunits/num/format.hpp"
+#include "rayunits/synth/args.hpp"
+#include "rayunits/synth/flow.hpp"
+#include "rayunits/synth/units.hpp"
+
+namespace ru::cli {
+
+inline const char* const kFlowOptionsHelp =
+    "flow options:\n"
+    "  --fpga              also place and route on iCE40 with nextpnr-ice40 (Fmax; slow)\n"
+    "  --device hx8k|up5k  iCE40 device (default hx8k)\n"
+    "  --no-ice40          skip synth_ice40 LUT counts\n"
+    "  --no-xilinx         skip synth_xilinx LUT/DSP counts\n"
+    "  --generic-only      skip both FPGA flows (generic gates only)\n"
+    "  --no-share          synth -noshare: no resource sharing (the ray-triangle units always)\n"
+    "  --rtl DIR           RTL source directory (default <repo>/rtl or $RU_RTL_DIR)\n"
+    "  --yosys PATH        yosys binary (default: yosys on PATH)\n"
+    "  --nextpnr PATH      nextpnr-ice40 binary (default: on PATH)\n"
+    "  --timeout S         kill a tool run after S seconds (default: no limit)\n"
+    "  --keep              keep the temp directory with scripts and logs\n";
+
+// Values checked after parsing (with the messages above), as typed.
+struct FlowArgs {
+  std::string device, timeout;
+};
+
+// "a,b,,c" -> {a, b, c}
+inline std::vector<std::string> split_list(const std::string& v) {
+  std::vector<std::string> out;
+  size_t b = 0;
+  while (b <= v.size()) {
+    size_t e = v.find(',', b);
+    if (e == std::string::npos) e = v.size();
+    if (e > b) out.push_back(v.substr(b, e - b));
+    b = e + 1;
+  }
+  return out;
+}
+
+// Sets up `app` the way these three commands parse: the given help text (instead of CLI11's
+// layout), a repeated option keeps its last value, unknown arguments are collected and reported
+// by parse_synth_args. Call before adding options.
+inline void synth_app(CLI::App& app, std::function<std::string()> help) {
+  app.option_defaults()->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  app.allow_extras();
+  app.formatter_fn([help](const CLI::App* a, std::string, CLI::AppFormatMode) {
+    std::string text = help();
+    // An option missing from the hand-laid text is still listed, from its CLI11 description.
+    for (const CLI::Option* o : a->get_options()) {
+      if (o == a->get_help_ptr() || (o->get_lnames().empty() && o->get_snames().empty())) continue;
+      bool named = false;
+      for (const auto& n : o->get_lnames()) named = named || text.find("--" + n) != std::string::npos;
+      for (const auto& n : o->get_snames()) named = named || text.find("-" + n) != std::string::npos;
+      if (!named) text += "  " + o->get_name() + "  " + o->get_description() + "\n";
+    }
+    return text;
+  });
+}
+
+// The flow options (`kFlowOptionsHelp`). Flags take effect in command-line order, so
+// `--generic-only --fpga` runs iCE40 place and route and `--fpga --no-ice40` does not.
+inline void add_flow_options(CLI::App& app, synth::FlowOptions& o, FlowArgs& a) {
+  app.add_option("--rtl", o.rtl_dir, "RTL source directory");
+  app.add_option("--yosys", o.yosys, "yosys binary");
+  app.add_option("--nextpnr", o.nextpnr, "nextpnr-ice40 binary");
+  app.add_option("--device", a.device, "iCE40 device: hx8k or up5k");
+  app.add_option("--timeout", a.timeout, "kill a tool run after S seconds");
+  auto flag = [&app](const char* name, std::function<void()> f, const char* what) {
+    app.add_flag_callback(name, std::move(f), what)->trigger_on_parse();
+  };
+  flag("--fpga", [&o] { o.pnr = o.ice40 = true; }, "also place and route on iCE40");
+  flag("--no-ice40", [&o] { o.ice40 = o.pnr = false; }, "skip synth_ice40");
+  flag("--no-xilinx", [&o] { o.xilinx = false; }, "skip synth_xilinx");
+  flag("--generic-only", [&o] { o.ice40 = o.pnr = o.xilinx = false; }, "skip both FPGA flows");
+  flag("--no-share", [&o] { o.share = false; }, "synth -noshare");
+  flag("--keep", [&o] { o.keep_temp = true; }, "keep the temp directory");
+}
+
+inline void check_flow_options(const CLI::App& app, synth::FlowOptions& o, const FlowArgs& a) {
+  if (app.count("--device")) {
+    if (a.device != "hx8k" && a.device != "up5k")
+      throw UsageError("--device expects hx8k or up5k, got '" + a.device + "'");
+    o.ice40_device = a.device;
+  }
+  if (app.count("--timeout")) o.timeout_s = synth::parse_int("--timeout", a.timeout, 1, 1000000);
+}
+
+// Unit configuration options: --format eXmY[-ftz], --stages N, --round MODE, --ftz,
+// --param Name=Value (repeatable; unit-specific parameters).
+struct ConfigArgs {
+  std::string format;  // empty until given
+  std::string stages;  // empty until given
+  std::string round;   // empty: rne
+  bool ftz = false;
+  std::vector<std::string> params;
+};
+
+inline void add_config_options(CLI::App& app, ConfigArgs& c) {
+  app.add_option("--format", c.format, "number format eXmY[-ftz]");
+  app.add_option("--stages", c.stages, "latency in cycles");
+  app.add_option("--round", c.round, "rounding mode: rne, rtz, rdn, rup");
+  app.add_flag("--ftz", c.ftz, "flush to zero");
+  app.add_option("--param", c.params, "a unit-specific parameter Name=Value (repeatable)")
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll)
+      ->allow_extra_args(false);
+}
+
+// Checks that --format (for units with a format) and --stages were given and builds the
+// UnitConfig (FormatError on a bad format). Range checks are check_config()'s.
+inline synth::UnitConfig make_config(const synth::UnitSpec& u, const CLI::App& app, const ConfigArgs& a) {
+  synth::UnitConfig c;
+  std::map<std::string, long long> params;
+  for (const std::string& v : a.params) {
+    const size_t eq = v.find('=');
+    if (eq == std::string::npos || eq == 0) throw UsageError("--param expects Name=Value, got '" + v + "'");
+    params[v.substr(0, eq)] =
+        synth::parse_int("--param " + v.substr(0, eq), v.substr(eq + 1), -1000000, 1000000);
+  }
+  const int stages = app.count("--stages") ? synth::parse_int("--stages", a.stages, 0, 1000) : -1;
+  if (u.uses_format) {
+    if (a.format.empty()) throw UsageError("--format eXmY is required (e.g. --format e7m16)");
+    c.fmt = num::Format::parse(a.format);
+    if (a.ftz) c.fmt.subnormals = false;
+    if (!a.round.empty()) c.fmt.round = num::parse_round(a.round);
+  } else if (!a.format.empty() || a.ftz || !a.round.empty()) {
+    throw UsageError(u.name + " has no floating-point format: --format/--round/--ftz do not apply (use --param)");
+  }
+  if (stages < 0) throw UsageError("--stages N is required (0 = combinational)");
+  c.stages = stages;
+  c.params = params;
+  return c;
+}
+
+// "--bogus=3" -> "--bogus"
+inline std::string option_name(const std::string& arg) {
+  return arg.rfind("--", 0) == 0 ? arg.substr(0, arg.find('=')) : arg;
+}
+
+// What `synth` and `gen` say about an argument they do not take: an unknown option, or a
+// second unit.
+inline std::function<std::string(const std::string&)> unit_command_surplus(const std::string& cmd) {
+  return [cmd](const std::string& a) {
+    if (a.size() > 1 && a[0] == '-')
+      return "unknown option '" + option_name(a) + "' (see rayunits " + cmd + " --help)";
+    return "unexpected argument '" + a + "' (one unit per run)";
+  };
+}
+
+// parse_args() with these commands' error lines: an option without its value is
+// "--x needs a value"; the first argument no option took is the error `surplus(arg)`.
+inline bool parse_synth_args(CLI::App& app, int argc, char** argv,
+                             const std::function<std::string(const std::string&)>& surplus) {
+  try {
+    if (!parse_args(app, argc, argv)) return false;
+  } catch (const UsageError& e) {
+    // CLI11 says "--format: 1 required TEXT missing (see --help)".
+    const std::string m = e.what();
+    const size_t colon = m.find(": ");
+    if (m.rfind("-", 0) == 0 && colon != std::string::npos && m.find(" missing", colon) != std::string::npos)
+      throw UsageError(m.substr(0, colon) + " needs a value");
+    throw;
+  }
+  const std::vector<std::string> rest = app.remaining();
+  if (!rest.empty()) throw UsageError(surplus(rest.front()));
+  return true;
+}
+
+}  // namespace ru::cli
