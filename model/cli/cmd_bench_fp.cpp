@@ -25,6 +25,7 @@
 #include "command.hpp"
 #include "rayunits/num/format.hpp"
 #include "rayunits/num/mpfr_ref.hpp"
+#include "rayunits/util/rng.hpp"
 
 namespace ru::cli {
 namespace {
@@ -39,12 +40,7 @@ struct Operands {
   std::vector<double> da, db, dc;  // the same values as doubles
 };
 
-uint64_t splitmix(uint64_t& s) {
-  uint64_t z = (s += 0x9e3779b97f4a7c15ull);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  return z ^ (z >> 31);
-}
+using util::splitmix64;
 
 // Exponent span of the operands: [-span, span] keeps every product, quotient and fma result
 // normal (no overflow/underflow), so both sides do the same ordinary work.
@@ -56,9 +52,9 @@ Operands make_operands(const Format& f, size_t n, uint64_t seed) {
   uint64_t s = seed;
   const int span = operand_span(f);
   auto one = [&](std::vector<uint64_t>& bits, std::vector<double>& d) {
-    int e = static_cast<int>(splitmix(s) % static_cast<uint64_t>(2 * span + 1)) - span;
-    uint64_t frac = splitmix(s) & f.frac_mask();
-    uint64_t sign = (splitmix(s) & 1) ? f.sign_bit() : 0;
+    int e = static_cast<int>(splitmix64(s) % static_cast<uint64_t>(2 * span + 1)) - span;
+    uint64_t frac = splitmix64(s) & f.frac_mask();
+    uint64_t sign = (splitmix64(s) & 1) ? f.sign_bit() : 0;
     uint64_t v = sign | (static_cast<uint64_t>(e + f.bias()) << f.frac_bits) | frac;
     bits.push_back(v);
     d.push_back(ru::num::to_double(f, v));

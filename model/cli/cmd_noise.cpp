@@ -18,6 +18,7 @@
 #include "rayunits/noise/reference.hpp"
 #include "rayunits/noise/study.hpp"
 #include "rayunits/noise/tables.hpp"
+#include "rayunits/util/rng.hpp"
 #include "rayunits/synth/flow.hpp"
 
 namespace ru::cli {
@@ -254,7 +255,7 @@ int run_bench_noise(int argc, char** argv) {
   std::uint64_t s = seed;
   for (size_t i = 0; i < n; ++i) {
     double* q[3] = {&px[i], &py[i], &pz[i]};
-    for (double* v : q) *v = (static_cast<double>(splitmix64(s) >> 11) * 0x1p-53) * 256 - 128;
+    for (double* v : q) *v = util::unit_double(util::splitmix64(s)) * 256 - 128;
     wx[i] = fx.quantize(px[i] / 2);
     wy[i] = fx.quantize(py[i] / 2);
     wz[i] = fx.quantize(pz[i] / 2);

@@ -13,54 +13,6 @@
 
 namespace ru::tb {
 
-// ---------------------------------------------------------------------------------------------
-// PRNG
-
-static uint64_t splitmix64(uint64_t& x) {
-  uint64_t z = (x += 0x9e3779b97f4a7c15ull);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  return z ^ (z >> 31);
-}
-
-Rng::Rng(uint64_t seed) {
-  for (auto& s : s_) s = splitmix64(seed);
-}
-
-uint64_t Rng::next() {
-  auto rotl = [](uint64_t x, int k) { return (x << k) | (x >> (64 - k)); };
-  const uint64_t result = rotl(s_[1] * 5, 7) * 9;
-  const uint64_t t = s_[1] << 17;
-  s_[2] ^= s_[0];
-  s_[3] ^= s_[1];
-  s_[1] ^= s_[2];
-  s_[0] ^= s_[3];
-  s_[2] ^= t;
-  s_[3] = rotl(s_[3], 45);
-  return result;
-}
-
-uint64_t Rng::below(uint64_t n) {
-  // Lemire's multiply-shift with rejection: unbiased.
-  unsigned __int128 m = static_cast<unsigned __int128>(next()) * n;
-  uint64_t lo = static_cast<uint64_t>(m);
-  if (lo < n) {
-    const uint64_t thresh = -n % n;
-    while (lo < thresh) {
-      m = static_cast<unsigned __int128>(next()) * n;
-      lo = static_cast<uint64_t>(m);
-    }
-  }
-  return static_cast<uint64_t>(m >> 64);
-}
-
-uint64_t mix_seed(uint64_t seed, const std::string& salt) {
-  uint64_t h = 1469598103934665603ull;  // FNV-1a over the salt, then mixed with the seed
-  for (unsigned char c : salt) h = (h ^ c) * 1099511628211ull;
-  uint64_t x = seed ^ h;
-  return splitmix64(x);
-}
-
 std::string hex(uint64_t v, int bits) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "0x%0*" PRIx64, (bits + 3) / 4, v);

@@ -11,6 +11,7 @@
 
 #include "rayunits/noise/spectrum.hpp"
 #include "rayunits/noise/study.hpp"
+#include "rayunits/util/rng.hpp"
 
 namespace ru::noise {
 namespace {
@@ -206,7 +207,7 @@ TEST(LongNoiseBounds, RangeOver1e7Samples) {
   double mf = 0, mh = 0;
   for (long i = 0; i < 10000000; ++i) {
     std::int64_t w[3];
-    for (auto& v : w) v = static_cast<std::int64_t>(splitmix64(s) & 0xffff);
+    for (auto& v : w) v = static_cast<std::int64_t>(util::splitmix64(s) & 0xffff);
     mf = std::max(mf, std::fabs(f.to_real(f.eval(w[0], w[1], w[2]))));
     mh = std::max(mh, std::fabs(r.half_cell(f.input_real(w[0]), f.input_real(w[1]), f.input_real(w[2]))));
   }

@@ -7,6 +7,8 @@
 #include <cstring>
 #include <sstream>
 
+#include "rayunits/util/rng.hpp"
+
 #if !defined(__x86_64__)
 #include <cfenv>
 #endif
@@ -188,12 +190,7 @@ void run_random(Checker& chk, const Format& f, Op op, uint64_t count, uint64_t s
 void run_uniform(Checker& chk, const Format& f, Op op, uint64_t count, uint64_t seed, const OpFn& ref,
                  const OpFn& dut) {
   uint64_t x = seed * 0x2545F4914F6CDD1Dull + 1;
-  auto next = [&] {
-    uint64_t z = (x += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return (z ^ (z >> 31)) & f.mask();
-  };
+  auto next = [&] { return ru::util::splitmix64(x) & f.mask(); };
   const int n = arity(op);
   for (uint64_t i = 0; i < count && !chk.done(); ++i) {
     const uint64_t a = next(), b = n >= 2 ? next() : 0, c = n >= 3 ? next() : 0;

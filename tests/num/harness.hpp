@@ -75,7 +75,7 @@ class Checker {
 // Random operand sets from OperandGen (next/pair/triple by arity).
 void run_random(Checker& chk, const Format& f, Op op, uint64_t count, uint64_t seed, const OpFn& ref,
                 const OpFn& dut);
-// Uniformly random bit patterns (own splitmix64 stream).
+// Uniformly random bit patterns (a splitmix64 stream, util/rng.hpp).
 void run_uniform(Checker& chk, const Format& f, Op op, uint64_t count, uint64_t seed, const OpFn& ref,
                  const OpFn& dut);
 // special_values x special_values (fma: x a selection of c values, plus specials for c).

@@ -8,6 +8,7 @@
 #include <set>
 
 #include "harness.hpp"
+#include "rayunits/util/rng.hpp"
 
 namespace ru::num::testing {
 namespace {
@@ -165,12 +166,7 @@ TEST(FormatName, RoundingModesOpsAndFlags) {
 
 // ---- conversions ---------------------------------------------------------------------------
 
-uint64_t mix(uint64_t& s) {
-  uint64_t z = (s += 0x9E3779B97F4A7C15ull);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
+uint64_t mix(uint64_t& s) { return ru::util::splitmix64(s); }
 
 double bits_double(uint64_t u) {
   double d;

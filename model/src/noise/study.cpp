@@ -11,6 +11,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "rayunits/util/rng.hpp"
+
 namespace ru::noise {
 
 namespace {
@@ -232,8 +234,8 @@ ErrorRow fixed_error(const FixedConfig& cfg, long samples, std::uint64_t seed, d
   for (long i = 0; i < samples; ++i) {
     std::int64_t w[3];
     for (int a = 0; a < 3; ++a) {
-      std::int64_t cell = static_cast<std::int64_t>(splitmix64(s) % 256) - 128;
-      std::int64_t fr = static_cast<std::int64_t>(splitmix64(s) % static_cast<std::uint64_t>(one));
+      std::int64_t cell = static_cast<std::int64_t>(util::splitmix64(s) % 256) - 128;
+      std::int64_t fr = static_cast<std::int64_t>(util::splitmix64(s) % static_cast<std::uint64_t>(one));
       w[a] = cell * one + fr;
     }
     std::int64_t v = f.eval(w[0], w[1], w[2]);
@@ -306,8 +308,8 @@ int run_study(const StudyOptions& o) {
     specs.push_back({"white_noise", "i.i.d. Gaussian pixels (floor of the anisotropy and striation measures)",
                      Slice::kAxis, 1, [st](double, double, double) {
                        // Box-Muller from two splitmix64 uniforms
-                       double u1 = (static_cast<double>(splitmix64(*st) >> 11) + 1) * 0x1p-53;
-                       double u2 = static_cast<double>(splitmix64(*st) >> 11) * 0x1p-53;
+                       double u1 = (static_cast<double>(util::splitmix64(*st) >> 11) + 1) * 0x1p-53;
+                       double u2 = util::unit_double(util::splitmix64(*st));
                        return std::sqrt(-2 * std::log(u1)) * std::cos(2 * M_PI * u2);
                      }});
   }
@@ -390,7 +392,7 @@ int run_study(const StudyOptions& o) {
     double lo = INFINITY, hi = -INFINITY;
     for (long i = 0; i < o.range_samples; ++i) {
       double p[3];
-      for (double& q : p) q = (static_cast<double>(splitmix64(s) >> 11) * 0x1p-53) * 256 - 128;
+      for (double& q : p) q = util::unit_double(util::splitmix64(s)) * 256 - 128;
       double v = c.f(p[0], p[1], p[2]);
       lo = std::min(lo, v);
       hi = std::max(hi, v);

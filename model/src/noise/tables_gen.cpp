@@ -8,29 +8,24 @@
 #include <string>
 
 #include "rayunits/noise/tables.hpp"
+#include "rayunits/util/rng.hpp"
 
 namespace ru::noise {
 
-std::uint64_t splitmix64(std::uint64_t& state) {
-  std::uint64_t z = (state += 0x9e3779b97f4a7c15ull);
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-  return z ^ (z >> 31);
-}
-
 namespace {
 
+using util::splitmix64;
+
 // Uniform in [0, 1) with 53 random bits.
-double uniform01(std::uint64_t& s) { return static_cast<double>(splitmix64(s) >> 11) * 0x1p-53; }
+double uniform01(std::uint64_t& s) { return util::unit_double(splitmix64(s)); }
 
 // Uniform integer in [0, n) without modulo bias (rejection).
 std::uint64_t bounded(std::uint64_t& s, std::uint64_t n) {
-  const std::uint64_t limit = UINT64_MAX - UINT64_MAX % n;  // accept x < limit
-  std::uint64_t x;
-  do {
-    x = splitmix64(s);
-  } while (x >= limit);
-  return x % n;
+  struct Stream {  // the caller's splitmix64 state as a generator
+    std::uint64_t& s;
+    std::uint64_t next() { return splitmix64(s); }
+  } g{s};
+  return util::bounded_modulo(g, n);
 }
 
 std::array<std::uint8_t, 256> permutation(std::uint64_t& s) {

@@ -21,15 +21,6 @@ int bitlen128(u128 x) {
   return lo ? n + 64 - __builtin_clzll(lo) : n;
 }
 
-uint64_t splitmix64(uint64_t& x) {
-  uint64_t z = (x += 0x9E3779B97F4A7C15ull);
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
-
-uint64_t rotl(uint64_t x, int k) { return (x << k) | (x >> (64 - k)); }
-
 }  // namespace
 
 std::vector<uint64_t> special_values(const Format& f) {
@@ -91,37 +82,14 @@ OperandGen::OperandGen(const Format& f, uint64_t seed)
       max_bexp_((int64_t{1} << f.exp_bits) - 2),
       frac_mask_((1ull << f.frac_bits) - 1),
       sign_bit_(1ull << (f.exp_bits + f.frac_bits)),
-      specials_(special_values(f)) {
-  // Mix the format into the seed so different formats get unrelated streams.
-  uint64_t x = seed ^ (static_cast<uint64_t>(E_) << 56) ^ (static_cast<uint64_t>(M_) << 48);
-  for (auto& s : s_) s = splitmix64(x);
-}
+      specials_(special_values(f)),
+      // Mix the format into the seed so different formats get unrelated streams.
+      rng_(seed ^ (static_cast<uint64_t>(f.exp_bits) << 56) ^ (static_cast<uint64_t>(f.frac_bits) << 48)) {}
 
-uint64_t OperandGen::rnd() {
-  const uint64_t result = rotl(s_[1] * 5, 7) * 9;
-  const uint64_t t = s_[1] << 17;
-  s_[2] ^= s_[0];
-  s_[3] ^= s_[1];
-  s_[1] ^= s_[2];
-  s_[0] ^= s_[3];
-  s_[2] ^= t;
-  s_[3] = rotl(s_[3], 45);
-  return result;
-}
+uint64_t OperandGen::rnd() { return rng_.next(); }
 
-uint64_t OperandGen::below(uint64_t n) {
-  // Lemire's multiply-shift with rejection: exact and host independent.
-  u128 m = static_cast<u128>(rnd()) * n;
-  uint64_t l = static_cast<uint64_t>(m);
-  if (l < n) {
-    const uint64_t t = -n % n;
-    while (l < t) {
-      m = static_cast<u128>(rnd()) * n;
-      l = static_cast<uint64_t>(m);
-    }
-  }
-  return static_cast<uint64_t>(m >> 64);
-}
+// Lemire's multiply-shift with rejection: exact and host independent.
+uint64_t OperandGen::below(uint64_t n) { return util::bounded_lemire(rng_, n); }
 
 bool OperandGen::chance(unsigned percent) { return below(100) < percent; }
 

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "rayunits/num/format.hpp"
+#include "rayunits/util/rng.hpp"
 
 namespace ru::report {
 
@@ -22,16 +23,10 @@ int acc_op_inputs(AccOp op) { return op == AccOp::Dot3 ? 6 : 2; }
 
 namespace {
 // splitmix64: a fixed, portable generator so a seed means the same workload everywhere.
-struct Rng {
-  uint64_t s;
-  uint64_t next() {
-    uint64_t z = (s += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
-  }
+struct Rng : util::SplitMix64 {
+  using util::SplitMix64::SplitMix64;
   // uniform integer in [0, n) (multiply-shift; bias < n / 2^64, immaterial here)
-  uint64_t below(uint64_t n) { return static_cast<uint64_t>((static_cast<unsigned __int128>(next()) * n) >> 64); }
+  uint64_t below(uint64_t n) { return util::bounded_mulshift(*this, n); }
 };
 
 std::string fmt_e(double v, int digits = 2) {
@@ -44,7 +39,7 @@ std::string fmt_e(double v, int digits = 2) {
 Workload make_workload(long samples, uint64_t seed, int emin, int emax) {
   Workload w;
   w.samples = samples;
-  Rng rng{seed};
+  Rng rng(seed);
   const uint64_t span = static_cast<uint64_t>(emax - emin + 1);
   for (int k = 0; k < kAccOps; ++k) {
     const size_t n = static_cast<size_t>(samples) * acc_op_inputs(static_cast<AccOp>(k));

@@ -5,24 +5,17 @@
 #include <unordered_map>
 
 #include "rayunits/scene/scene.hpp"
+#include "rayunits/util/rng.hpp"
 
 namespace ru::scene {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// Deterministic pseudo-random numbers (splitmix64) so every scene is the same everywhere.
-struct Rng {
-  uint64_t s;
-  explicit Rng(uint64_t seed) : s(seed) {}
-  uint64_t next() {
-    uint64_t z = (s += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return z ^ (z >> 31);
-  }
-  double uniform() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
-  double range(double lo, double hi) { return lo + (hi - lo) * uniform(); }
+// Deterministic pseudo-random numbers (a splitmix64 stream) so every scene is the same everywhere.
+struct Rng : util::SplitMix64 {
+  using util::SplitMix64::SplitMix64;
+  double range(double lo, double hi) { return uniform(lo, hi); }
 };
 
 struct Builder {

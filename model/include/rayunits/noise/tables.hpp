@@ -58,8 +58,7 @@ std::vector<Vec3> relaxed_gradients(std::uint64_t& rng_state, int n, int steps, 
 double coulomb_energy(const std::vector<Vec3>& g);
 double min_chord_distance(const std::vector<Vec3>& g);
 
-// splitmix64: the generator's PRNG (public so tests and studies can reuse it).
-std::uint64_t splitmix64(std::uint64_t& state);
+// The generator's PRNG is a splitmix64 stream (ru::util::splitmix64, rayunits/util/rng.hpp).
 
 std::string render_cpp_header(const TableSet& t);
 std::string render_svh(const TableSet& t);

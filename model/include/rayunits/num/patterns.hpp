@@ -10,8 +10,8 @@
 // near rounding ties (add, mul, div, sqrt, fma), cancellation (b ~ -a, c ~ -a*b), and
 // products/quotients at the overflow and underflow thresholds.
 //
-// Determinism: the sequence depends only on the format's (E, M) and the seed (own xoshiro256**
-// PRNG seeded by splitmix64, integer arithmetic only), so it is identical on every host and
+// Determinism: the sequence depends only on the format's (E, M) and the seed (xoshiro256**
+// of util/rng.hpp seeded by splitmix64, integer arithmetic only), so it is identical on every host and
 // compiler. The rounding mode and the subnormal setting do not change the sequence.
 #pragma once
 
@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "rayunits/num/format.hpp"
+#include "rayunits/util/rng.hpp"
 
 namespace ru::num {
 
@@ -36,7 +37,7 @@ class OperandGen {
   void triple(uint64_t& a, uint64_t& b, uint64_t& c);
 
  private:
-  uint64_t rnd();                 // xoshiro256**
+  uint64_t rnd();                 // xoshiro256** (util/rng.hpp)
   uint64_t below(uint64_t n);     // uniform in [0, n), n > 0
   bool chance(unsigned percent);  // true with probability percent/100
   uint64_t pack(bool neg, uint64_t bexp, uint64_t frac) const;
@@ -69,7 +70,7 @@ class OperandGen {
   int64_t bias_, emin_, emax_, max_bexp_;  // max_bexp_: largest biased exponent of a finite value
   uint64_t frac_mask_, sign_bit_;
   std::vector<uint64_t> specials_;
-  uint64_t s_[4];
+  util::Xoshiro256ss rng_;
 };
 
 }  // namespace ru::num

@@ -1,5 +1,5 @@
 // rayunits units: synthetic ray-triangle and ray-box workloads (deterministic for a seed on
-// every host: own xoshiro256** generator, IEEE-exact double arithmetic and sqrt only).
+// every host: xoshiro256** generator of util/rng.hpp, IEEE-exact double arithmetic and sqrt only).
 //
 // Triangles (modelled on the dissertation's benchmark, §3.5): random triangles about the
 // origin (centre uniform in [-1,1]^3, vertices = centre + uniform [-1/2,1/2]^3), each tested
@@ -21,21 +21,17 @@
 #include <vector>
 
 #include "rayunits/units/trace.hpp"
+#include "rayunits/util/rng.hpp"
 
 namespace ru::units {
 
-// xoshiro256** seeded with splitmix64.
-class Rng {
+// xoshiro256** seeded with splitmix64 (util/rng.hpp): next(), uniform() ([0, 1), 53 random
+// bits), uniform(lo, hi).
+class Rng : public util::Xoshiro256ss {
  public:
-  explicit Rng(uint64_t seed);
-  uint64_t next();
-  double uniform();                   // [0, 1), 53 random bits
-  double uniform(double lo, double hi);
-  uint64_t below(uint64_t n);         // [0, n), n > 0
+  using util::Xoshiro256ss::Xoshiro256ss;
+  uint64_t below(uint64_t n);         // [0, n), n > 0 (modulo with rejection)
   Vec3d unit_vector();                // uniform on the unit sphere (rejection sampling)
-
- private:
-  uint64_t s_[4];
 };
 
 struct SynthTriOptions {

@@ -30,6 +30,7 @@
 
 #include "rayunits/tb/dut.hpp"
 #include "rayunits/tb/port.hpp"
+#include "rayunits/util/rng.hpp"
 
 namespace ru::tb {
 
@@ -150,18 +151,15 @@ struct RunStats {
 // Stages+1 idle cycles) or max_errors mismatches. Prints mismatch reports on stderr.
 RunStats run(Dut& dut, UnitAdapter& adapter, VectorSource& src, const RunOptions& opt);
 
-// Small deterministic PRNG (xoshiro256**, seeded by splitmix64) used by the harness and sources.
-class Rng {
+// Small deterministic PRNG (xoshiro256**, seeded by splitmix64; rayunits/util/rng.hpp) used by
+// the harness and sources. Its streams are pinned by tests/util/test_rng.cpp (RngPin.*).
+class Rng : public util::Xoshiro256ss {
  public:
-  explicit Rng(uint64_t seed);
-  uint64_t next();
-  uint64_t below(uint64_t n);  // uniform in [0, n), n > 0
+  using util::Xoshiro256ss::Xoshiro256ss;
+  uint64_t below(uint64_t n) { return util::bounded_lemire(*this, n); }  // uniform in [0, n), n > 0
   bool chance(uint32_t num, uint32_t den) { return below(den) < num; }
-
- private:
-  uint64_t s_[4];
 };
-uint64_t mix_seed(uint64_t seed, const std::string& salt);  // derive independent stream seeds
+using util::mix_seed;  // derive independent stream seeds: mix_seed(seed, salt)
 
 std::string hex(uint64_t v, int bits);  // "0x0003f800" with the field's digit count
 
