@@ -30,7 +30,7 @@ int run_watertight_cmd(int argc, char** argv) {
   bool tie_break = false, quiet = false;
   auto* g = app.add_option_group("mesh", "one of");
   g->add_option("--scene", scene, std::string("built-in closed mesh: ") + builtin_mesh_names());
-  g->add_option("--mesh", mesh_file, "closed mesh file (.obj or .off)");
+  g->add_option("--mesh", mesh_file, "closed mesh file (OBJ, OFF, PLY, STL, ...)");
   g->require_option(1);
   app.add_option("--format", format, "number format eXmY[-ftz] (e8m23 runs as native float, e11m52 as double)")
       ->capture_default_str();

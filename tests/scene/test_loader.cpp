@@ -1,15 +1,21 @@
-// Mesh loading through Assimp: formats, errors, and a fuzz test of the loader path.
+// Mesh loading through the one loader (Assimp behind it): formats, errors, limits, topology,
+// and a fuzz test of the loader path (the larger one: test_mesh_fuzz.cpp).
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <random>
 
+#include "rayunits/scene/mesh_file.hpp"
 #include "rayunits/scene/scene.hpp"
+#include "rayunits/units/mesh.hpp"
 
 using namespace ru::scene;
 
@@ -216,4 +222,156 @@ TEST(LongLoader, AllDebianTestModelsLoadOrFailCleanly) {
   if (!bunny.empty()) {
     EXPECT_EQ(load_mesh(bunny).tris.size(), 75408u);
   }
+}
+
+// --- The one loader (scene/mesh_file.hpp), issue 12 §7 ---------------------------------------
+
+namespace {
+
+// The closed octahedron: 6 vertices, 8 outward triangles.
+const char* kOctaOff =
+    "OFF\n6 8 12\n1 0 0\n-1 0 0\n0 1 0\n0 -1 0\n0 0 1\n0 0 -1\n"
+    "3 0 2 4\n3 2 1 4\n3 1 3 4\n3 3 0 4\n3 2 0 5\n3 1 2 5\n3 3 1 5\n3 0 3 5\n";
+
+std::string octa_stl() {
+  const double v[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  const int f[8][3] = {{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4}, {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+  std::string s = "solid o\n";
+  for (const auto& t : f) {
+    s += "facet normal 0 0 0\nouter loop\n";
+    for (int k : t) s += "vertex " + std::to_string(v[k][0]) + " " + std::to_string(v[k][1]) + " " + std::to_string(v[k][2]) + "\n";
+    s += "endloop\nendfacet\n";
+  }
+  return s + "endsolid o\n";
+}
+
+std::string both_errors(const std::string& path) {
+  std::string a = "(accepted)", b = "(accepted)";
+  try {
+    load_mesh(path, 'z');
+  } catch (const SceneError& e) {
+    a = e.what();
+  }
+  try {
+    ru::units::load_mesh(path);
+  } catch (const ru::units::MeshError& e) {
+    b = e.what();
+  }
+  EXPECT_EQ(a, b) << "every command gets the same error line";
+  return a;
+}
+
+}  // namespace
+
+// The two files of the issue: a header claiming 999,999,999 vertices is rejected from its size
+// before anything is allocated; a face using vertex 7 of 3 is rejected by render and by the
+// watertightness study with the same line.
+TEST(Loader, IssueExamplesAreRejectedByEveryEntryPoint) {
+  const auto t0 = std::chrono::steady_clock::now();
+  std::string m = both_errors(write_file("huge.off", "OFF\n999999999 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"));
+  EXPECT_NE(m.find("huge.off:2: the OFF header claims 999999999 vertices and 1 faces, more than a file of 44 bytes"),
+            std::string::npos) << m;
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 2.0);
+  m = both_errors(write_file("idx7.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n"));
+  EXPECT_NE(m.find("idx7.off:6: face 0: vertex index 7 out of range (the file has 3 vertices: 0..2)"), std::string::npos) << m;
+  m = both_errors(write_file("idx7.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 8\n"));
+  EXPECT_NE(m.find("idx7.obj:4: vertex index 8 out of range"), std::string::npos) << m;
+  m = both_errors(write_file("idx7.ply",
+                             "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+                             "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 7\n"));
+  EXPECT_NE(m.find("vertex index 7 out of range"), std::string::npos) << m;
+}
+
+TEST(Loader, CountsAreCheckedAgainstTheFileSize) {
+  std::string m = both_errors(write_file(
+      "big.ply", "ply\nformat binary_little_endian 1.0\nelement vertex 999999999\nproperty float x\nproperty float y\n"
+                 "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n" +
+                     std::string(60, '\0')));
+  EXPECT_NE(m.find("the header claims 999999999 vertex, 1 face elements, more than the 60 bytes"), std::string::npos) << m;
+  std::string stl(84, '\0');
+  stl[80] = '\xff';
+  stl[81] = '\xff';
+  stl[82] = '\xff';
+  m = both_errors(write_file("big.stl", stl));
+  EXPECT_NE(m.find("as binary STL it claims 16777215 triangles"), std::string::npos) << m;
+  m = both_errors(write_file("short.off", "OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n"));
+  EXPECT_NE(m.find("the file ends after 1 of the 2 faces its header claims"), std::string::npos) << m;
+}
+
+// The importer's address space is limited: a limit too small for the import gives one error line.
+TEST(Loader, MemoryLimitStopsTheImporter) {
+  std::string off = "OFF\n30000 30000 0\n";
+  for (int i = 0; i < 30000; ++i) off += std::to_string(i) + " " + std::to_string(i % 7) + " " + std::to_string(i % 3) + "\n";
+  for (int i = 0; i < 30000; ++i)
+    off += "3 " + std::to_string(i) + " " + std::to_string((i + 1) % 30000) + " " + std::to_string((i + 2) % 30000) + "\n";
+  const std::string p = write_file("mem.off", off);
+  ru::scene::set_mesh_memory_limit_mb(2);
+  std::string m;
+  try {
+    load_mesh(p, 'z');
+  } catch (const SceneError& e) {
+    m = e.what();
+  }
+  ru::scene::set_mesh_memory_limit_mb(0);
+  EXPECT_NE(m.find("the import needs more than its memory limit of 2 MiB (malformed file? RU_MESH_MEMORY_MB raises"),
+            std::string::npos) << m;
+  EXPECT_EQ(load_mesh(p, 'z').tris.size(), 30000u);  // the default limit serves
+}
+
+TEST(Loader, CoordinatesMustBeFiniteAndNotHuge) {
+  for (const char* bad : {"nan", "inf", "1e999", "-1e20", "18446744073709551617e1"}) {
+    SCOPED_TRACE(bad);
+    const std::string m =
+        both_errors(write_file("c.off", std::string("OFF\n3 1 0\n0 0 0\n1 0 ") + bad + "\n0 1 0\n3 0 1 2\n"));
+    EXPECT_NE(m.find("c.off:4: vertex 1 has the"), std::string::npos) << m;
+    EXPECT_NE(m.find("accepted: finite numbers of magnitude at most 2^64"), std::string::npos) << m;
+  }
+  // Exactly 2^64 is accepted.
+  EXPECT_EQ(load_mesh(write_file("max.off", "OFF\n3 1 0\n0 0 0\n1 0 18446744073709551616\n0 1 0\n3 0 1 2\n"), 'z').tris.size(), 1u);
+  // Binary formats are checked after the import: a binary STL with an infinite coordinate.
+  std::string stl(80, ' ');
+  uint32_t n = 1;
+  stl.append(reinterpret_cast<const char*>(&n), 4);
+  const float tri[12] = {0, 0, 1, 0, 0, 0, 1, 0, 0, INFINITY, 1, 0};
+  stl.append(reinterpret_cast<const char*>(tri), sizeof tri);
+  stl.append(2, '\0');
+  const std::string m = both_errors(write_file("inf.stl", stl));
+  EXPECT_NE(m.find("has a non-finite coordinate"), std::string::npos) << m;
+}
+
+// Faces with two corners on one vertex have no area and no edge of the surface: dropped and
+// counted; the rest of a closed mesh stays closed for the watertightness study.
+TEST(Loader, DegenerateFacesAreDroppedAndCounted) {
+  ASSERT_EQ(std::string(kOctaOff).substr(0, 10), "OFF\n6 8 12");
+  const std::string p = write_file("degen.off", std::string(kOctaOff).replace(6, 1, "9") + "3 0 0 1\n");
+  for (auto mode : {ru::scene::MeshCoordinates::Importer, ru::scene::MeshCoordinates::Exact}) {
+    const ru::scene::MeshFile f = ru::scene::read_mesh_file(p, mode);
+    EXPECT_EQ(f.tris.size(), 8u);
+    EXPECT_EQ(f.dropped_degenerate, 1u);
+  }
+  EXPECT_EQ(ru::units::closed_mesh_edges(ru::units::load_mesh(p)).size(), 12u);
+  const std::string m = both_errors(write_file("alldegen.off", "OFF\n3 2 0\n0 0 0\n1 0 0\n0 1 0\n3 0 0 1\n3 1 2 2\n"));
+  EXPECT_NE(m.find("alldegen.off: no triangles (all 2 have two corners on one vertex)"), std::string::npos) << m;
+}
+
+// Indexed faces with the topology intact for every format: the triangle soup of an STL file is
+// joined at identical positions, so the watertightness study finds the shared edges.
+TEST(Loader, TopologyIsIndexedForEveryFormat) {
+  const std::string stl = write_file("octa.stl", octa_stl());
+  const ru::scene::MeshFile f = ru::scene::read_mesh_file(stl);
+  EXPECT_EQ(f.verts.size(), 6u);
+  EXPECT_EQ(f.tris.size(), 8u);
+  const ru::units::Mesh m = ru::units::load_mesh(stl);
+  EXPECT_EQ(m.verts.size(), 6u);
+  EXPECT_EQ(ru::units::closed_mesh_edges(m).size(), 12u);
+  const ru::scene::MeshFile o = ru::scene::read_mesh_file(write_file("octa.off", kOctaOff));
+  EXPECT_EQ(o.verts.size(), 6u);
+  EXPECT_EQ(o.tris.size(), 8u);
+}
+
+// The study keeps the file's double coordinates (OFF/OBJ); scenes keep Assimp's binary32 ones.
+TEST(Loader, ExactCoordinatesForTheStudyImporterCoordinatesForScenes) {
+  const std::string p = write_file("tenth.off", "OFF\n3 1 0\n0.1 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
+  EXPECT_EQ(ru::units::load_mesh(p).verts[0].x, 0.1);
+  EXPECT_EQ(load_mesh(p, 'z').tris[0].p[0].x, static_cast<double>(0.1f));
 }

@@ -1,11 +1,12 @@
-// Built-in closed meshes and a simple OBJ/OFF loader (units/mesh.hpp).
+// Built-in closed meshes and mesh files through the one loader (units/mesh.hpp).
 #include "rayunits/units/mesh.hpp"
 
 #include <cmath>
-#include <fstream>
 #include <map>
-#include <sstream>
 #include <utility>
+
+#include "rayunits/scene/mesh_file.hpp"
+#include "rayunits/scene/scene.hpp"
 
 namespace ru::units {
 namespace {
@@ -148,96 +149,24 @@ Mesh builtin_mesh(const std::string& name) {
   throw MeshError("unknown scene '" + name + "' (built-in scenes: " + builtin_mesh_names() + ")");
 }
 
-namespace {
-
-int parse_index(const std::string& tok, int nverts, const std::string& where) {
-  const std::string head = tok.substr(0, tok.find('/'));
-  char* end = nullptr;
-  const long v = std::strtol(head.c_str(), &end, 10);
-  if (head.empty() || *end != '\0' || v == 0)
-    throw MeshError(where + ": bad vertex index '" + tok + "'");
-  const long idx = v > 0 ? v - 1 : nverts + v;
-  if (idx < 0 || idx >= nverts)
-    throw MeshError(where + ": vertex index " + std::to_string(v) + " out of range (1.." + std::to_string(nverts) + ")");
-  return static_cast<int>(idx);
-}
-
-void add_polygon(Mesh& m, const std::vector<int>& poly, const std::string& where) {
-  if (poly.size() < 3) throw MeshError(where + ": a face needs at least 3 vertices");
-  for (size_t i = 1; i + 1 < poly.size(); ++i) m.tris.push_back({poly[0], poly[i], poly[i + 1]});
-}
-
-}  // namespace
-
+// The one mesh-file loader (scene/mesh_file.hpp) with the file's own coordinates (double) and
+// vertex indices for OFF and OBJ; other formats (PLY, STL, ...) through Assimp, corners at
+// identical positions joined into shared vertices. The same checks and error lines as every
+// other command that takes a mesh.
 Mesh load_mesh(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw MeshError("mesh " + path + ": cannot open");
+  ru::scene::MeshFile f;
+  try {
+    f = ru::scene::read_mesh_file(path, ru::scene::MeshCoordinates::Exact);
+  } catch (const ru::scene::SceneError& e) {
+    throw MeshError(e.what());
+  }
   Mesh m;
   m.name = path;
-  const bool off = path.size() >= 4 && (path.substr(path.size() - 4) == ".off" || path.substr(path.size() - 4) == ".OFF");
-  const bool obj = path.size() >= 4 && (path.substr(path.size() - 4) == ".obj" || path.substr(path.size() - 4) == ".OBJ");
-  if (!off && !obj) throw MeshError("mesh " + path + ": unknown extension (accepted: .obj, .off)");
-  std::string line;
-  int lineno = 0;
-  auto where = [&] { return "mesh " + path + ":" + std::to_string(lineno); };
-  if (obj) {
-    while (std::getline(in, line)) {
-      ++lineno;
-      std::istringstream ss(line);
-      std::string tag;
-      if (!(ss >> tag) || tag[0] == '#') continue;
-      if (tag == "v") {
-        Vec3d v;
-        if (!(ss >> v.x >> v.y >> v.z)) throw MeshError(where() + ": expected 'v x y z'");
-        m.verts.push_back(v);
-      } else if (tag == "f") {
-        std::vector<int> poly;
-        std::string tok;
-        while (ss >> tok) poly.push_back(parse_index(tok, static_cast<int>(m.verts.size()), where()));
-        add_polygon(m, poly, where());
-      }
-    }
-  } else {
-    auto next_line = [&]() -> std::string {
-      while (std::getline(in, line)) {
-        ++lineno;
-        const size_t h = line.find('#');
-        if (h != std::string::npos) line.resize(h);
-        if (line.find_first_not_of(" \t\r") != std::string::npos) return line;
-      }
-      throw MeshError(where() + ": unexpected end of file");
-    };
-    std::string head = next_line();
-    std::istringstream hs(head);
-    std::string magic;
-    hs >> magic;
-    long nv = -1, nf = -1;
-    if (magic != "OFF") throw MeshError(where() + ": expected OFF header");
-    if (!(hs >> nv >> nf)) {
-      std::istringstream cs(next_line());
-      if (!(cs >> nv >> nf)) throw MeshError(where() + ": expected vertex and face counts");
-    }
-    if (nv < 0 || nf < 0) throw MeshError(where() + ": negative counts");
-    for (long i = 0; i < nv; ++i) {
-      std::istringstream ss(next_line());
-      Vec3d v;
-      if (!(ss >> v.x >> v.y >> v.z)) throw MeshError(where() + ": expected 'x y z'");
-      m.verts.push_back(v);
-    }
-    for (long i = 0; i < nf; ++i) {
-      std::istringstream ss(next_line());
-      long n;
-      if (!(ss >> n) || n < 3) throw MeshError(where() + ": expected a face 'n i0 i1 ...' with n >= 3");
-      std::vector<int> poly;
-      for (long k = 0; k < n; ++k) {
-        long idx;
-        if (!(ss >> idx) || idx < 0 || idx >= nv) throw MeshError(where() + ": bad vertex index");
-        poly.push_back(static_cast<int>(idx));
-      }
-      add_polygon(m, poly, where());
-    }
-  }
-  if (m.tris.empty()) throw MeshError("mesh " + path + ": no faces");
+  m.verts.reserve(f.verts.size());
+  for (const auto& v : f.verts) m.verts.push_back({v.x, v.y, v.z});
+  m.tris.reserve(f.tris.size());
+  for (const auto& t : f.tris)
+    m.tris.push_back({static_cast<int>(t[0]), static_cast<int>(t[1]), static_cast<int>(t[2])});
   return m;
 }
 

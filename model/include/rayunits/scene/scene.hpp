@@ -1,8 +1,8 @@
 // Scenes: triangle soups with materials, a pinhole camera and one point light (Mirth, §2.1).
 //
-// Built-in procedural scenes need no files (make_scene); meshes load through Assimp
-// (load_mesh). Every scene may be scaled by a power of ten with the suffix "@<factor>"
-// ("default@1e-6"): geometry, camera, light and the epsilon scale together, while
+// Built-in procedural scenes need no files (make_scene); mesh files load through the one
+// loader (load_mesh, scene/mesh_file.hpp). Every scene may be scaled by a power of ten with
+// the suffix "@<factor>" ("default@1e-6"): geometry, camera, light and the epsilon scale together, while
 // procedural textures are evaluated in unscaled object coordinates, so the scaled image is
 // the same picture and only the numbers differ (the point of the 1e-6 / 1e+6 variants).
 #pragma once
@@ -70,13 +70,13 @@ std::string scene_name_help();  // "default, sphere, cornell, arch, ... (suffix 
 // Builds a named scene; "NAME@FACTOR" scales it. Throws SceneError naming the accepted names.
 Scene make_scene(const std::string& name);
 
-// Loads a mesh file through Assimp (OBJ, PLY, OFF, STL, ...). Every triangle gets one grey
-// material; the camera frames the bounding box (up axis: 'y' for most scanned meshes, 'z').
-// Throws SceneError with one line (file name and reason) for missing, unreadable, empty or
-// malformed files and for non-finite coordinates.
-// The importer runs in a forked child process with a time limit (default 30 s + 2 s per MB;
-// environment RU_MESH_TIMEOUT overrides), so a hang or crash inside Assimp on a malformed
-// file is reported as a SceneError too.
+// Loads a mesh file through the one loader (scene/mesh_file.hpp: parent-side checks, Assimp in
+// a sandboxed child with time and memory limits; OBJ, PLY, OFF, STL, ...). Every triangle gets
+// its file's material colour (grey by default); the camera frames the bounding box (up axis:
+// 'y' for most scanned meshes, 'z'). Throws SceneError with one line (file name and reason)
+// for missing, unreadable, empty, oversized or malformed files, out-of-range indices and
+// non-finite or huge coordinates; time limit: 30 s + 2 s per MB (RU_MESH_TIMEOUT overrides),
+// memory limit: 2 GiB (RU_MESH_MEMORY_MB overrides).
 Scene load_mesh(const std::string& path, char up_axis = 'y');
 void set_mesh_load_timeout(double seconds);  // > 0 overrides the default (tests); 0 restores it
 

@@ -1,5 +1,5 @@
-// rayunits units: small closed triangle meshes for the watertightness study, and a loader
-// for simple OBJ / OFF files (vertices and polygonal faces; polygons are fan-triangulated).
+// rayunits units: small closed triangle meshes for the watertightness study, and mesh files
+// through the project's one loader (scene/mesh_file.hpp).
 #pragma once
 
 #include <array>
@@ -38,8 +38,10 @@ Mesh make_cube(int n);
 Mesh builtin_mesh(const std::string& name);
 const char* builtin_mesh_names();  // "icosphere, icosphere4, uvsphere, torus, cube"
 
-// OBJ ("v x y z", "f i j k ..." with 1-based or negative indices, "i/t/n" allowed) or OFF,
-// chosen by the file extension (.obj / .off). Throws MeshError with file and line.
+// A mesh file through ru::scene::read_mesh_file (MeshCoordinates::Exact): OBJ and OFF with
+// their own double coordinates and vertex indices, polygons fan-triangulated; PLY, STL, ...
+// through Assimp with corners at identical positions joined. Triangles with two corners on one
+// vertex are dropped (counted warning). Throws MeshError (one line, file and line number).
 Mesh load_mesh(const std::string& path);
 
 struct MeshEdge {
