@@ -164,24 +164,7 @@ TEST(SynthRegistry, RejectsBadConfigurations) {
   EXPECT_THROW(check_config(noise, n), SynthError);
 }
 
-// The maxima documented in rtl/README.md ("useful max Stages" table), not recomputed here.
-TEST(SynthRegistry, MaxStagesMatchTheRtlDocumentation) {
-  struct Row {
-    const char* fmt;
-    int mul, div, dot3;
-  };
-  for (const Row& r : {Row{"e2m1", 3, 5, 13}, Row{"e4m3", 5, 7, 15}, Row{"e5m2", 4, 6, 14},
-                       Row{"e5m10", 8, 14, 18}, Row{"e6m12", 8, 16, 18}, Row{"e7m16", 9, 20, 19},
-                       Row{"e8m23", 10, 27, 20}, Row{"e11m52", 12, 56, 22}}) {
-    SCOPED_TRACE(r.fmt);
-    const UnitConfig c = cfg(r.fmt, 0);
-    EXPECT_EQ(find_unit("fp_mul").max_stages(c), r.mul);
-    EXPECT_EQ(find_unit("fp_div").max_stages(c), r.div);
-    EXPECT_EQ(find_unit("fp_dot3").max_stages(c), r.dot3);
-    EXPECT_EQ(find_unit("fp_add").max_stages(c), 4);
-    EXPECT_EQ(find_unit("fp_cmp").max_stages(c), 2);
-  }
-}
+// The maximum useful Stages: tests/synth/test_registry.cpp (against the RTL and rtl/README.md).
 
 TEST(SynthRegistry, WrapperFixesParametersDeterministically) {
   const UnitSpec& add = find_unit("fp_add");

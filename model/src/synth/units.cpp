@@ -11,19 +11,17 @@
 #include <set>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
+#include "rayunits/synth/process.hpp"
+
 namespace ru::synth {
 namespace fs = std::filesystem;
 using num::Format;
 
 namespace {
 
-WidthFn bits(int n) {
-  return [n](const UnitConfig&) { return n; };
-}
-int fp_width(const UnitConfig& c) { return c.fmt.width(); }
-int three_fp_width(const UnitConfig& c) { return 3 * c.fmt.width(); }
-
-// The parameters every floating-point unit of issue 3 takes.
+// The parameters every floating-point unit takes.
 std::vector<ParamSpec> fp_params() {
   return {
       {"ExpW", [](const UnitConfig& c) { return static_cast<long long>(c.fmt.exp_bits); }},
@@ -34,145 +32,88 @@ std::vector<ParamSpec> fp_params() {
   };
 }
 
+PortSpec in(const char* name, const char* width, const char* doc) {
+  return {name, PortDir::In, PortRole::Data, width, doc};
+}
+PortSpec out(const char* name, const char* width, const char* doc) {
+  return {name, PortDir::Out, PortRole::Data, width, doc};
+}
+
 std::vector<PortSpec> control_ports() {
   return {
-      {"clk_i", PortDir::In, PortRole::Clock, bits(1), "clock, rising edge"},
-      {"rst_ni", PortDir::In, PortRole::Reset, bits(1), "reset, active low: drops every operation in flight"},
-      {"in_valid_i", PortDir::In, PortRole::Valid, bits(1), "operands valid this cycle"},
+      {"clk_i", PortDir::In, PortRole::Clock, "1", "clock, rising edge"},
+      {"rst_ni", PortDir::In, PortRole::Reset, "1", "reset, active low: drops every operation in flight"},
+      {"in_valid_i", PortDir::In, PortRole::Valid, "1", "operands valid this cycle"},
   };
+}
+PortSpec out_valid() {
+  return {"out_valid_o", PortDir::Out, PortRole::Valid, "1", "result valid (in_valid_i delayed by the latency)"};
 }
 
 // The fixed interface: clk_i, rst_ni, in_valid_i, operands, [op_i], out_valid_o, y_o, flags_o.
 std::vector<PortSpec> fp_ports(std::vector<PortSpec> operands) {
   std::vector<PortSpec> p = control_ports();
   for (auto& o : operands) p.push_back(std::move(o));
-  p.push_back({"out_valid_o", PortDir::Out, PortRole::Valid, bits(1),
-               "result valid (in_valid_i delayed by the latency)"});
-  p.push_back({"y_o", PortDir::Out, PortRole::Data, fp_width, "result bit pattern"});
-  p.push_back(
-      {"flags_o", PortDir::Out, PortRole::Data, bits(5), "{invalid, divzero, overflow, underflow, inexact}"});
+  p.push_back(out_valid());
+  p.push_back(out("y_o", "W", "result bit pattern"));
+  p.push_back(out("flags_o", "5", "{invalid, divzero, overflow, underflow, inexact}"));
   return p;
 }
 
-PortSpec operand(const char* name, const char* doc) {
-  return {name, PortDir::In, PortRole::Data, fp_width, doc};
+UnitSpec fp_unit(const char* name, const char* summary, std::vector<PortSpec> operands, const char* max_stages) {
+  UnitSpec s;
+  s.name = name;
+  s.top = std::string("ru_") + name;
+  s.summary = summary;
+  s.filelist = s.top + ".f";
+  s.params = fp_params();
+  s.ports = fp_ports(std::move(operands));
+  s.max_stages_expr = max_stages;
+  return s;
 }
 
-// ru_fp_pkg::csa_levels: carry-save (3:2) levels that reduce n partial products to two.
-int csa_levels(int n) {
-  int l = 0;
-  while (n > 2) {
-    n = 2 * (n / 3) + n % 3;
-    ++l;
-  }
-  return l;
-}
-
-// Maximum Stages per unit: the "useful max" of rtl/README.md (every cut position registered).
-// The RTL accepts more (extra registers at the output), which buys no speed, so synth/gen
-// refuse it as the README suggests. L = csa_levels(FracW+1).
-int max_stages_add(const UnitConfig&) { return 4; }
-int max_stages_mul(const UnitConfig& c) { return csa_levels(c.fmt.frac_bits + 1) + 3; }
-int max_stages_div(const UnitConfig& c) { return c.fmt.frac_bits + 4; }
-int max_stages_cmp(const UnitConfig&) { return 2; }
-int max_stages_dot3(const UnitConfig& c) { return csa_levels(c.fmt.frac_bits + 1) + 13; }
-
+// Maximum useful Stages: the number of internal cut positions of the unit's register chain
+// (rtl/README.md, "Pipelining"), with L = csa_levels(M+1). FP units: add 6 segments, mul L+5,
+// div M+6, cmp 3, dot3 = mul + 2 add. The ray units place their registers on the chain of their
+// levels' FP segments (one mechanism, rtl/README.md), so their maximum is the sum of the levels'
+// segment counts minus one: ray_box = add mul cmp cmp cmp, ray_tri_robust = add mul add mul add
+// add div cmp (4 add, 2 mul), ray_tri_mt = add mul add mul add add div mul add cmp (5 add, 3 mul).
+// (The registry before this one counted one add level too many for both triangle units.) Checked against each top module's MaxUsefulStages
+// (check_against_rtl, ctest Registry.MaxUsefulStagesMatchRtl).
 std::vector<UnitSpec> make_units() {
   std::vector<UnitSpec> u;
-  {
-    UnitSpec s;
-    s.name = "fp_add";
-    s.top = "ru_fp_add";
-    s.summary = "floating-point adder/subtracter (op_i 0 = a+b, 1 = a-b)";
-    s.filelist = "ru_fp_add.f";
-    s.sources = {"ru_fp_add.sv"};
-    s.params = fp_params();
-    s.ports = fp_ports({operand("a_i", "operand a"),
-                        operand("b_i", "operand b"),
-                        {"op_i", PortDir::In, PortRole::Data, bits(1), "0 = add, 1 = subtract"}});
-    s.max_stages = max_stages_add;
-    u.push_back(std::move(s));
-  }
-  {
-    UnitSpec s;
-    s.name = "fp_mul";
-    s.top = "ru_fp_mul";
-    s.summary = "floating-point multiplier";
-    s.filelist = "ru_fp_mul.f";
-    s.sources = {"ru_fp_mul.sv"};
-    s.params = fp_params();
-    s.ports = fp_ports({operand("a_i", "operand a"), operand("b_i", "operand b")});
-    s.max_stages = max_stages_mul;
-    u.push_back(std::move(s));
-  }
-  {
-    UnitSpec s;
-    s.name = "fp_div";
-    s.top = "ru_fp_div";
-    s.summary = "floating-point divider (correctly rounded, pipelined digit recurrence)";
-    s.filelist = "ru_fp_div.f";
-    s.sources = {"ru_fp_div.sv"};
-    s.params = fp_params();
-    s.ports = fp_ports({operand("a_i", "dividend"), operand("b_i", "divisor")});
-    s.max_stages = max_stages_div;
-    u.push_back(std::move(s));
-  }
-  {
-    UnitSpec s;
-    s.name = "fp_cmp";
-    s.top = "ru_fp_cmp";
-    s.summary = "floating-point compare/min/max (op_i 0 lt, 1 le, 2 eq, 3 min, 4 max)";
-    s.filelist = "ru_fp_cmp.f";
-    s.sources = {"ru_fp_cmp.sv"};
-    s.params = fp_params();
-    s.ports = fp_ports({operand("a_i", "operand a"),
-                        operand("b_i", "operand b"),
-                        {"op_i", PortDir::In, PortRole::Data, bits(3), "0 lt, 1 le, 2 eq, 3 min, 4 max"}});
-    s.max_stages = max_stages_cmp;
-    u.push_back(std::move(s));
-  }
-  {
-    UnitSpec s;
-    s.name = "fp_dot3";
-    s.top = "ru_fp_dot3";
-    s.summary = "3-term dot product, three products and two sums each rounded";
-    s.filelist = "ru_fp_dot3.f";
-    s.sources = {"ru_fp_dot3.sv"};
-    s.params = fp_params();
-    s.ports =
-        fp_ports({{"a_i", PortDir::In, PortRole::Data, three_fp_width, "{a2, a1, a0}, a0 in the low bits"},
-                  {"b_i", PortDir::In, PortRole::Data, three_fp_width, "{b2, b1, b0}, b0 in the low bits"}});
-    s.max_stages = max_stages_dot3;
-    u.push_back(std::move(s));
-  }
-  // The intersection units (issue 4): built from the FP units, one register placement over
-  // their chain of levels (rtl/ru_ray_tri_pkg.sv). Their Stages bound is the sum of the levels'
-  // FP-unit maxima (every level fully pipelined); the RTL accepts more (output registers).
+  u.push_back(fp_unit("fp_add", "floating-point adder/subtracter (op_i 0 = a+b, 1 = a-b)",
+                      {in("a_i", "W", "operand a"), in("b_i", "W", "operand b"), in("op_i", "1", "0 = add, 1 = subtract")},
+                      "5"));
+  u.push_back(fp_unit("fp_mul", "floating-point multiplier", {in("a_i", "W", "operand a"), in("b_i", "W", "operand b")},
+                      "L+4"));
+  u.push_back(fp_unit("fp_div", "floating-point divider (correctly rounded, pipelined digit recurrence)",
+                      {in("a_i", "W", "dividend"), in("b_i", "W", "divisor")}, "M+5"));
+  u.push_back(fp_unit("fp_cmp", "floating-point compare/min/max (op_i 0 lt, 1 le, 2 eq, 3 min, 4 max)",
+                      {in("a_i", "W", "operand a"), in("b_i", "W", "operand b"),
+                       in("op_i", "3", "0 lt, 1 le, 2 eq, 3 min, 4 max")},
+                      "2"));
+  u.push_back(fp_unit("fp_dot3", "3-term dot product, three products and two sums each rounded",
+                      {in("a_i", "3*W", "{a2, a1, a0}, a0 in the low bits"),
+                       in("b_i", "3*W", "{b2, b1, b0}, b0 in the low bits")},
+                      "L+16"));
   {
     UnitSpec s;
     s.name = "ray_box";
     s.top = "ru_ray_box";
     s.summary = "ray-box slab test (Williams et al.), optional conservative directed rounding";
     s.filelist = "ru_ray_box.f";
-    s.sources = {"ru_ray_box.sv"};
     s.params = fp_params();
     s.extra_params = {{"OptConservative", 0, 0, 1, "1: t_enter rounded down, t_exit up (never a false miss)"}};
     s.ports = control_ports();
-    s.ports.push_back({"org_i", PortDir::In, PortRole::Data, three_fp_width, "ray origin {z, y, x}"});
-    s.ports.push_back({"rdir_i", PortDir::In, PortRole::Data, three_fp_width, "reciprocal direction {z, y, x}"});
-    s.ports.push_back(operand("tmin_i", "t_min"));
-    s.ports.push_back(operand("tmax_i", "t_max"));
-    s.ports.push_back({"bmin_i", PortDir::In, PortRole::Data, three_fp_width, "box minimum corner {z, y, x}"});
-    s.ports.push_back({"bmax_i", PortDir::In, PortRole::Data, three_fp_width, "box maximum corner {z, y, x}"});
-    s.ports.push_back({"out_valid_o", PortDir::Out, PortRole::Valid, bits(1),
-                       "result valid (in_valid_i delayed by the latency)"});
-    s.ports.push_back({"hit_o", PortDir::Out, PortRole::Data, bits(1), "the ray's [t_min, t_max] meets the box"});
-    s.ports.push_back({"t_enter_o", PortDir::Out, PortRole::Data, fp_width, "entry distance"});
-    s.ports.push_back({"t_exit_o", PortDir::Out, PortRole::Data, fp_width, "exit distance"});
-    // levels: add mul cmp cmp cmp
-    s.max_stages = [](const UnitConfig& c) {
-      return max_stages_add(c) + max_stages_mul(c) + 3 * max_stages_cmp(c);
-    };
+    for (PortSpec p : {in("org_i", "3*W", "ray origin {z, y, x}"), in("rdir_i", "3*W", "reciprocal direction {z, y, x}"),
+                       in("tmin_i", "W", "t_min"), in("tmax_i", "W", "t_max"),
+                       in("bmin_i", "3*W", "box minimum corner {z, y, x}"),
+                       in("bmax_i", "3*W", "box maximum corner {z, y, x}"), out_valid(),
+                       out("hit_o", "1", "the ray's [t_min, t_max] meets the box"),
+                       out("t_enter_o", "W", "entry distance"), out("t_exit_o", "W", "exit distance")})
+      s.ports.push_back(std::move(p));
+    s.max_stages_expr = "L+19";  // 6 + (L+5) + 3*3 segments, minus one
     u.push_back(std::move(s));
   }
   for (const bool robust : {true, false}) {
@@ -182,7 +123,6 @@ std::vector<UnitSpec> make_units() {
     s.summary = robust ? "ray-triangle test from signed volumes (Kensler Fig. 3.6)"
                        : "ray-triangle test, Moller-Trumbore (Kensler Eq. 3.2)";
     s.filelist = s.top + ".f";
-    s.sources = {s.top + ".sv"};
     s.synth_share = false;
     s.params = fp_params();
     if (robust) s.extra_params.push_back({"OptTieBreak", 0, 0, 1, "Fig. 3.6's zero-volume tie-break"});
@@ -190,33 +130,18 @@ std::vector<UnitSpec> make_units() {
     s.extra_params.push_back({"EpsBits", 0, 0, INT64_MAX, "eps as a bit pattern of the format"});
     s.extra_params.push_back({"OptVolOut", 0, 0, 1, "1: vol_o carries V, Va, V0..2 (else constant 0)"});
     s.ports = control_ports();
-    for (const char* n : {"a_i", "d_i", "p0_i", "p1_i", "p2_i"})
-      s.ports.push_back({n, PortDir::In, PortRole::Data, three_fp_width,
-                         n[0] == 'a' ? "ray origin {z, y, x}" : n[0] == 'd' ? "ray direction {z, y, x}"
-                                                                           : "vertex {z, y, x}"});
-    s.ports.push_back(operand("tmin_i", "t_min"));
-    s.ports.push_back(operand("tmax_i", "t_max"));
-    s.ports.push_back({"out_valid_o", PortDir::Out, PortRole::Valid, bits(1),
-                       "result valid (in_valid_i delayed by the latency)"});
-    s.ports.push_back({"hit_o", PortDir::Out, PortRole::Data, bits(1), "hit inside (t_min, t_max)"});
-    s.ports.push_back({"why_o", PortDir::Out, PortRole::Data, bits(3), "0 hit, 1 sign of V0..V2, 2 tie-break, 3 |V| < eps, 4 t outside (t_min, t_max)"});
-    s.ports.push_back(operand("t_o", "distance t"));
-    s.ports.back().dir = PortDir::Out;
-    s.ports.push_back(operand("beta_o", "barycentric beta"));
-    s.ports.back().dir = PortDir::Out;
-    s.ports.push_back(operand("gamma_o", "barycentric gamma"));
-    s.ports.back().dir = PortDir::Out;
-    s.ports.push_back({"vol_o", PortDir::Out, PortRole::Data, [](const UnitConfig& c) { return 5 * c.fmt.width(); },
-                       "{V2, V1, V0, Va, V} (OptVolOut)"});
-    // robust levels: add mul add mul add add div cmp; MT: add mul add mul add add div mul add cmp
-    if (robust)
-      s.max_stages = [](const UnitConfig& c) {
-        return 5 * max_stages_add(c) + 2 * max_stages_mul(c) + max_stages_div(c) + max_stages_cmp(c);
-      };
-    else
-      s.max_stages = [](const UnitConfig& c) {
-        return 6 * max_stages_add(c) + 3 * max_stages_mul(c) + max_stages_div(c) + max_stages_cmp(c);
-      };
+    for (PortSpec p : {in("a_i", "3*W", "ray origin {z, y, x}"), in("d_i", "3*W", "ray direction {z, y, x}"),
+                       in("p0_i", "3*W", "vertex {z, y, x}"), in("p1_i", "3*W", "vertex {z, y, x}"),
+                       in("p2_i", "3*W", "vertex {z, y, x}"), in("tmin_i", "W", "t_min"), in("tmax_i", "W", "t_max"),
+                       out_valid(), out("hit_o", "1", "hit inside (t_min, t_max)"),
+                       out("why_o", "3",
+                           "0 hit, 1 sign of V0..V2, 2 tie-break, 3 |V| < eps, 4 t outside (t_min, t_max)"),
+                       out("t_o", "W", "distance t"), out("beta_o", "W", "barycentric beta"),
+                       out("gamma_o", "W", "barycentric gamma"),
+                       out("vol_o", "5*W", "{V2, V1, V0, Va, V} (OptVolOut)")})
+      s.ports.push_back(std::move(p));
+    // robust: 4*6 + 2*(L+5) + (M+6) + 3 segments; MT: 5*6 + 3*(L+5) + (M+6) + 3; minus one
+    s.max_stages_expr = robust ? "2*L+M+42" : "3*L+M+53";
     u.push_back(std::move(s));
   }
   {
@@ -227,27 +152,18 @@ std::vector<UnitSpec> make_units() {
     s.top = "ru_noise";
     s.summary = "fixed-point gradient noise (Kensler sec. 4.9-4.13), one result per clock";
     s.filelist = "ru_noise.f";
-    s.sources = {"ru_noise_cut.sv", "ru_noise.sv"};
     s.uses_format = false;
     s.params = {{"Stages", [](const UnitConfig& c) { return static_cast<long long>(c.stages); }}};
     s.extra_params = {{"FracBits", 8, 4, 16, "fraction bits of the coordinates"},
                       {"IntBits", 8, 1, 24, "integer bits of the coordinates (incl. sign)"},
                       {"OutW", 10, 2, 38, "output width"}};
-    WidthFn coord = [](const UnitConfig& c) {
-      return static_cast<int>(param_value(find_unit("noise"), c, "FracBits") +
-                              param_value(find_unit("noise"), c, "IntBits"));
-    };
     s.ports = control_ports();
-    s.ports.push_back({"x_i", PortDir::In, PortRole::Data, coord, "x, signed fixed point"});
-    s.ports.push_back({"y_i", PortDir::In, PortRole::Data, coord, "y, signed fixed point"});
-    s.ports.push_back({"z_i", PortDir::In, PortRole::Data, coord, "z, signed fixed point"});
-    s.ports.push_back({"out_valid_o", PortDir::Out, PortRole::Valid, bits(1),
-                       "result valid (in_valid_i delayed by the latency)"});
-    s.ports.push_back(
-        {"value_o", PortDir::Out, PortRole::Data,
-         [](const UnitConfig& c) { return static_cast<int>(param_value(find_unit("noise"), c, "OutW")); },
-         "noise value, signed"});
-    s.max_stages = [](const UnitConfig&) { return 6; };
+    for (PortSpec p : {in("x_i", "FracBits+IntBits", "x, signed fixed point"),
+                       in("y_i", "FracBits+IntBits", "y, signed fixed point"),
+                       in("z_i", "FracBits+IntBits", "z, signed fixed point"), out_valid(),
+                       out("value_o", "OutW", "noise value, signed")})
+      s.ports.push_back(std::move(p));
+    s.max_stages_expr = "7";  // 8 segments (rtl/ru_noise.sv)
     s.check = [](const UnitConfig& c) {
       const UnitSpec& n = find_unit("noise");
       const long long fb = param_value(n, c, "FracBits"), ow = param_value(n, c, "OutW");
@@ -259,6 +175,83 @@ std::vector<UnitSpec> make_units() {
   }
   return u;
 }
+
+// Recursive-descent evaluator of the registry's integer expressions.
+class ExprParser {
+ public:
+  ExprParser(const std::string& e, const UnitSpec& u, const UnitConfig& c) : e_(e), u_(u), c_(c) {}
+  long long run() {
+    long long v = sum();
+    skip();
+    if (i_ != e_.size()) fail("unexpected '" + e_.substr(i_, 1) + "'");
+    return v;
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& why) const {
+    throw SynthError(u_.name + ": bad registry expression '" + e_ + "': " + why);
+  }
+  void skip() {
+    while (i_ < e_.size() && e_[i_] == ' ') ++i_;
+  }
+  bool eat(char ch) {
+    skip();
+    if (i_ < e_.size() && e_[i_] == ch) return ++i_, true;
+    return false;
+  }
+  long long sum() {
+    long long v = product();
+    for (;;) {
+      if (eat('+')) v += product();
+      else if (eat('-')) v -= product();
+      else return v;
+    }
+  }
+  long long product() {
+    long long v = atom();
+    for (;;) {
+      if (eat('*')) v *= atom();
+      else if (eat('/')) {
+        const long long d = atom();
+        if (d == 0) fail("division by zero");
+        v /= d;
+      } else return v;
+    }
+  }
+  long long atom() {
+    skip();
+    if (eat('(')) {
+      long long v = sum();
+      if (!eat(')')) fail("missing ')'");
+      return v;
+    }
+    if (eat('-')) return -atom();
+    const size_t b = i_;
+    if (i_ < e_.size() && std::isdigit(static_cast<unsigned char>(e_[i_]))) {
+      while (i_ < e_.size() && std::isdigit(static_cast<unsigned char>(e_[i_]))) ++i_;
+      return std::stoll(e_.substr(b, i_ - b));
+    }
+    while (i_ < e_.size() && (std::isalnum(static_cast<unsigned char>(e_[i_])) || e_[i_] == '_')) ++i_;
+    if (b == i_) fail(i_ < e_.size() ? "unexpected '" + e_.substr(i_, 1) + "'" : "unexpected end");
+    return name(e_.substr(b, i_ - b));
+  }
+  long long name(const std::string& n) const {
+    if (u_.uses_format) {
+      const auto& f = c_.fmt;
+      if (n == "E") return f.exp_bits;
+      if (n == "M") return f.frac_bits;
+      if (n == "W") return 1 + f.exp_bits + f.frac_bits;
+      if (n == "L") return csa_levels(f.frac_bits + 1);
+    }
+    for (const auto& p : u_.extra_params)
+      if (p.name == n) return param_value(u_, c_, n);
+    fail("unknown name '" + n + "' (E, M, W, L for units with a format, or a parameter of the unit)");
+  }
+  const std::string& e_;
+  const UnitSpec& u_;
+  const UnitConfig& c_;
+  size_t i_ = 0;
+};
 
 std::string trim(const std::string& s) {
   size_t b = s.find_first_not_of(" \t\r\n");
@@ -272,6 +265,21 @@ std::string fmt_tag(const Format& f) {
 }
 
 }  // namespace
+
+int csa_levels(int n) {
+  int l = 0;
+  while (n > 2) {
+    n = 2 * (n / 3) + n % 3;
+    ++l;
+  }
+  return l;
+}
+
+long long eval_expr(const std::string& expr, const UnitSpec& u, const UnitConfig& c) {
+  return ExprParser(expr, u, c).run();
+}
+
+int UnitSpec::max_stages(const UnitConfig& c) const { return static_cast<int>(eval_expr(max_stages_expr, *this, c)); }
 
 const std::vector<UnitSpec>& units() {
   static const std::vector<UnitSpec> u = make_units();
@@ -446,7 +454,13 @@ std::string sources_hash(const Sources& s) {
 
 std::vector<Port> ports_for(const UnitSpec& u, const UnitConfig& c) {
   std::vector<Port> v;
-  for (const auto& p : u.ports) v.push_back({p.name, p.dir, p.role, p.width(c), p.doc});
+  for (const auto& p : u.ports) {
+    const long long w = eval_expr(p.width, u, c);
+    if (w < 1 || w > (1 << 20))
+      throw SynthError(u.name + ": port " + p.name + " width '" + p.width + "' = " + std::to_string(w) +
+                       " (must be 1..2^20)");
+    v.push_back({p.name, p.dir, p.role, static_cast<int>(w), p.doc});
+  }
   return v;
 }
 
@@ -491,6 +505,128 @@ std::string wrapper_verilog(const UnitSpec& u, const UnitConfig& c) {
   }
   o << "  );\n\nendmodule\n";
   return o.str();
+}
+
+std::string registry_json(const std::vector<UnitSpec>& us) {
+  nlohmann::ordered_json j;
+  j["about"] = "The rayunits unit registry (model/src/synth/units.cpp), written by `rayunits registry --json`; "
+               "read by CMake (tb/cmake/RuTb.cmake). Do not edit: regenerate. Expressions: E=ExpW, M=FracW, "
+               "W=1+E+M, L=csa_levels(M+1), and the unit's parameters by name.";
+  nlohmann::ordered_json arr = nlohmann::ordered_json::array();
+  for (const auto& u : us) {
+    nlohmann::ordered_json e;
+    e["name"] = u.name;
+    e["top"] = u.top;
+    e["filelist"] = u.filelist;
+    e["uses_format"] = u.uses_format;
+    e["min_stages"] = u.min_stages;
+    e["max_stages"] = u.max_stages_expr;
+    nlohmann::ordered_json params = nlohmann::ordered_json::array();
+    for (const auto& p : u.params) params.push_back(p.name);
+    e["rtl_params"] = params;
+    nlohmann::ordered_json extra = nlohmann::ordered_json::array();
+    for (const auto& p : u.extra_params)
+      extra.push_back({{"name", p.name}, {"default", p.def}, {"min", p.lo}, {"max", p.hi}, {"doc", p.doc}});
+    e["params"] = extra;
+    nlohmann::ordered_json ports = nlohmann::ordered_json::array();
+    static const char* roles[] = {"clock", "reset", "valid", "data"};
+    for (const auto& p : u.ports)
+      ports.push_back({{"name", p.name},
+                       {"dir", p.dir == PortDir::In ? "in" : "out"},
+                       {"role", roles[static_cast<int>(p.role)]},
+                       {"width", p.width},
+                       {"doc", p.doc}});
+    e["ports"] = ports;
+    arr.push_back(e);
+  }
+  j["units"] = arr;
+  return j.dump(2) + "\n";
+}
+
+namespace {
+
+// The value of `localparam <name>` of the top module in Verilator's XML netlist, -1 if absent.
+// Verilator 5.006 writes each elaborated localparam as
+//   <var ... name="MaxUsefulStages" ... localparam="true"> <const ... name="32'h5" .../>
+// inside the top <module>; the first match is the top's (submodules come later).
+long long xml_localparam(const std::string& xml, const std::string& name) {
+  const std::regex re("<var [^>]*name=\"" + name + "\"[^>]*localparam=\"true\"[^>]*>\\s*<const [^>]*name=\"([0-9]*)&apos;([sh]?)([hdbo]?)([0-9a-fA-F_]+)\"");
+  std::smatch m;
+  if (!std::regex_search(xml, m, re)) return -1;
+  std::string digits = m[4].str();
+  digits.erase(std::remove(digits.begin(), digits.end(), '_'), digits.end());
+  const std::string base = m[2].str() == "h" ? "h" : m[3].str();
+  const int radix = base == "h" ? 16 : base == "b" ? 2 : base == "o" ? 8 : 10;
+  return std::stoll(digits, nullptr, radix);
+}
+
+std::string cfg_label(const UnitSpec& u, const UnitConfig& c) {
+  std::string s = u.name + (u.uses_format ? " " + fmt_tag(c.fmt) : std::string());
+  for (const auto& p : u.extra_params) {
+    const long long v = param_value(u, c, p.name);
+    if (v != p.def) s += " " + p.name + "=" + std::to_string(v);
+  }
+  return s;
+}
+
+}  // namespace
+
+RtlStageFacts rtl_stage_facts(const UnitSpec& u, const UnitConfig& c, const std::string& rtl_dir) {
+  const char* env = std::getenv("RU_VERILATOR");
+  const std::string verilator = find_program(env && *env ? env : "verilator");
+  if (verilator.empty())
+    throw SynthError("verilator not found (install it: scripts/install-deps.sh; or set RU_VERILATOR)");
+  const Sources src = resolve_sources(u, rtl_dir);
+  TempDir tmp("ru-rtlfacts-");
+  std::vector<std::string> argv = {verilator, "--xml-only", "-Wno-fatal", "-Wno-lint", "-Wno-style",
+                                   "--top-module", u.top, "--xml-output", tmp.path() + "/top.xml"};
+  std::set<std::string> dirs;
+  for (const auto& f : src.files) dirs.insert(fs::path(f).parent_path().string());
+  for (const auto& d : dirs) argv.push_back("-I" + d);
+  for (const auto& [k, v] : params_for(u, c)) argv.push_back("-G" + k + "=" + std::to_string(v));
+  for (const auto& f : src.files) argv.push_back(f);
+  const std::string log = tmp.path() + "/verilator.log";
+  const ProcResult r = run_process(argv, tmp.path(), log, 600);
+  if (r.exit_code != 0) {
+    std::string text = read_file(log);
+    if (text.size() > 600) text = text.substr(0, 600) + "...";
+    for (char& ch : text)
+      if (ch == '\n') ch = ' ';
+    throw SynthError(cfg_label(u, c) + ": verilator --xml-only failed: " + text);
+  }
+  const std::string xml = read_file(tmp.path() + "/top.xml");
+  RtlStageFacts f;
+  f.max_useful_stages = static_cast<int>(xml_localparam(xml, "MaxUsefulStages"));
+  f.out_regs = static_cast<int>(xml_localparam(xml, "OutRegs"));
+  return f;
+}
+
+std::vector<std::string> check_against_rtl(const UnitSpec& u, const std::vector<UnitConfig>& configs,
+                                           const std::string& rtl_dir) {
+  std::vector<std::string> bad;
+  for (UnitConfig c : configs) {
+    c.stages = 0;
+    const int max = u.max_stages(c);
+    const std::string at = cfg_label(u, c);
+    c.stages = max;
+    const RtlStageFacts a = rtl_stage_facts(u, c, rtl_dir);
+    if (a.max_useful_stages < 0 || a.out_regs < 0) {
+      bad.push_back(at + ": the RTL top " + u.top + " has no localparam MaxUsefulStages / OutRegs");
+      continue;
+    }
+    if (a.max_useful_stages != max)
+      bad.push_back(at + ": registry max Stages " + std::to_string(max) + ", RTL MaxUsefulStages " +
+                    std::to_string(a.max_useful_stages));
+    if (a.out_regs != 0)
+      bad.push_back(at + ": at Stages " + std::to_string(max) + " the RTL places " + std::to_string(a.out_regs) +
+                    " register(s) at the output (expected 0: every register at an internal cut)");
+    c.stages = max + 1;
+    const RtlStageFacts b = rtl_stage_facts(u, c, rtl_dir);
+    if (b.out_regs != 1)
+      bad.push_back(at + ": at Stages " + std::to_string(max + 1) + " the RTL places " + std::to_string(b.out_regs) +
+                    " register(s) at the output (expected exactly the one extra)");
+  }
+  return bad;
 }
 
 }  // namespace ru::synth

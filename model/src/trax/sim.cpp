@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <memory>
 #include <cmath>
 #include <cstdio>
 #include <unordered_map>
@@ -365,15 +366,28 @@ SimStats simulate(const Config& cfg, WorkSource& work, bool progress, IssueObser
   for (Unit u : {Unit::Box, Unit::Tri, Unit::Noise})
     if (rc.unit(u).latency == kLatencyRtl) rc.unit(u).latency = rtl_latency(rc, u);
   const auto t0 = std::chrono::steady_clock::now();
-  // A fresh simulation context per run: SystemC 2.3 cannot elaborate again after sc_start, so
-  // each run gets its own context (the previous one is abandoned; it holds only this module).
-  sc_core::sc_curr_simcontext = new sc_core::sc_simcontext();
-  sc_core::sc_default_global_context = sc_core::sc_curr_simcontext;
+  // A fresh simulation context per run (SystemC 2.3 cannot elaborate again after sc_start), owned
+  // by this call: the module is destroyed while its context is current, then the context itself,
+  // and the globals are reset so that nothing refers to freed memory (the next run, or any other
+  // SystemC call, installs a context of its own).
+  struct Context {
+    sc_core::sc_simcontext* ctx = new sc_core::sc_simcontext();
+    std::unique_ptr<sc_core::sc_module> top;
+    Context() {
+      sc_core::sc_curr_simcontext = ctx;
+      sc_core::sc_default_global_context = ctx;
+    }
+    ~Context() {
+      top.reset();
+      delete ctx;
+      sc_core::sc_curr_simcontext = nullptr;
+      sc_core::sc_default_global_context = nullptr;
+    }
+  } context;
   sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
   Machine m(rc, work, observer);
   const double ps = std::max(1.0, std::round(1e6 / rc.clock_mhz));
-  Chip* chip = new Chip("trax", sc_core::sc_time(ps, sc_core::SC_PS), m, progress);
-  (void)chip;
+  context.top = std::make_unique<Chip>("trax", sc_core::sc_time(ps, sc_core::SC_PS), m, progress);
   sc_core::sc_start();
   SimStats st = m.st;
   st.stopped = m.stopped();

@@ -1,11 +1,15 @@
-// rayunits: the registry of synthesizable units (what `rayunits synth` / `rayunits gen` know).
+// rayunits: the unit registry, the one description of every hardware unit.
 //
-// Adding a unit (ray_box, ray_tri, ...) is one table entry in model/src/synth/units.cpp:
-// its name, RTL top module, source files (or an rtl/*.f file list), the RTL parameters as
-// functions of the requested configuration, the supported Stages range, and the port list with
-// widths as functions of the configuration (number format + unit parameters). Everything else
-// (wrapper generation, the Yosys flows, the FPGA harness, datasheets, sweeps) is derived from
-// that entry. See synth/README.md, "Adding a unit".
+// Adding a unit is one table entry in model/src/synth/units.cpp: its name, RTL top module,
+// source files (an rtl/*.f file list), the RTL parameters as functions of the requested
+// configuration, its maximum useful Stages and its ports, both as small integer expressions
+// over the format and the unit's parameters (see eval_expr()). Everything else is derived from
+// that entry: wrapper generation, the Yosys flows, the FPGA harness, datasheets, sweeps, the
+// TRaX latency limits, and -- through model/data/registry.json, which `rayunits registry
+// --json` writes and a fast test keeps current -- the testbench port lists and the "smax"
+// stage tokens of the CMake test matrices (tb/cmake/RuTb.cmake). The maximum useful Stages is
+// also a fact of the RTL (each top module's `localparam MaxUsefulStages`); check_against_rtl()
+// compares the two (ctest Registry.*). See docs/ARCHITECTURE.md, "How to add a unit".
 #pragma once
 
 #include <functional>
@@ -38,13 +42,13 @@ enum class PortDir { In, Out };
 // What a port is for; the FPGA harness and the datasheet use it.
 enum class PortRole { Clock, Reset, Valid, Data };
 
-using WidthFn = std::function<int(const UnitConfig&)>;
-
 struct PortSpec {
   std::string name;
   PortDir dir;
   PortRole role;
-  WidthFn width;    // bits, >= 1
+  // Bits, an expression for eval_expr() ("1", "W", "3*W", "FracBits+IntBits"); the value is >= 1.
+  // Vector operands are packed {x2, x1, x0} with x0 in the low bits (`doc` says which).
+  std::string width;
   std::string doc;  // one line for the datasheet
 };
 
@@ -74,7 +78,13 @@ struct UnitSpec {
   std::vector<PortSpec> ports;
   bool uses_format = true;  // false: --format/--round/--ftz do not apply (e.g. fixed point)
   int min_stages = 0;
-  std::function<int(const UnitConfig&)> max_stages;
+  // The maximum useful Stages (every internal cut position registered; the RTL accepts more and
+  // puts the extra registers at the output, which buys no speed, so synth/gen refuse it): an
+  // eval_expr() expression, e.g. "L+4". Must equal the RTL's localparam MaxUsefulStages.
+  std::string max_stages_expr;
+  int max_stages(const UnitConfig& c) const;
+  // Latency in cycles of a configuration: every unit's latency is exactly its Stages.
+  int latency(const UnitConfig& c) const { return c.stages; }
   // Formats the RTL accepts (on top of num::Format's own range check).
   int min_exp = num::Format::kMinExp, max_exp = num::Format::kMaxExp;
   int min_frac = num::Format::kMinFrac, max_frac = num::Format::kMaxFrac;
@@ -84,6 +94,15 @@ struct UnitSpec {
   // Further constraints between parameters; throws SynthError. May be empty.
   std::function<void(const UnitConfig&)> check;
 };
+
+// Evaluates a registry expression: integers, + - * / ( ), and the names
+//   E = ExpW, M = FracW, W = 1+E+M, L = csa_levels(M+1) (carry-save levels of the significand
+//   multiplier, ru_fp_pkg::csa_levels), and every extra parameter of the unit by name.
+// Format names are only defined for units that use a format. Throws SynthError (one line) on a
+// syntax error or an unknown name.
+long long eval_expr(const std::string& expr, const UnitSpec& u, const UnitConfig& c);
+// ru_fp_pkg::csa_levels: carry-save (3:2) levels that reduce n partial products to two.
+int csa_levels(int n);
 
 // All registered units, in a stable order.
 const std::vector<UnitSpec>& units();
@@ -136,6 +155,27 @@ std::vector<Port> ports_for(const UnitSpec& u, const UnitConfig& c);
 
 // The RTL parameters of the configuration, in order (fixed ones, then extra ones).
 std::vector<std::pair<std::string, long long>> params_for(const UnitSpec& u, const UnitConfig& c);
+
+// The registry as JSON (units, parameters with ranges, ports with width expressions, the maximum
+// useful Stages expression, sources): what CMake reads at configure time
+// (model/data/registry.json). Deterministic.
+std::string registry_json(const std::vector<UnitSpec>& units);
+
+// What the RTL itself says about a configuration's pipeline, read from the top module's
+// localparams by `verilator --xml-only` (Verilator must be on PATH or $RU_VERILATOR).
+struct RtlStageFacts {
+  int max_useful_stages = -1;  // localparam MaxUsefulStages
+  int out_regs = -1;           // localparam OutRegs: registers placed at the output
+};
+RtlStageFacts rtl_stage_facts(const UnitSpec& u, const UnitConfig& c, const std::string& rtl_dir);
+
+// Compares a registry entry with its RTL for each configuration's format/parameters (the
+// configurations' own stages are ignored): elaborates the unit at the registry's maximum useful
+// Stages (MaxUsefulStages must equal it, and OutRegs must be 0) and one past it (OutRegs must be
+// exactly 1). Returns one line per disagreement, naming the unit and the format
+// ("fp_add e8m23: registry max Stages 4, RTL MaxUsefulStages 5"); empty when they agree.
+std::vector<std::string> check_against_rtl(const UnitSpec& u, const std::vector<UnitConfig>& configs,
+                                           const std::string& rtl_dir);
 
 // The SystemVerilog text of the wrapper module (parameters fixed, same ports as the unit).
 // Deterministic: no timestamps, no host names.

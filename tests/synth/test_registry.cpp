@@ -1,0 +1,176 @@
+// The unit registry against its other copies: the RTL (MaxUsefulStages / OutRegs localparams,
+// read with `verilator --xml-only`), rtl/README.md's table, and model/data/registry.json (what
+// CMake reads). Each check is shown to catch a planted disagreement.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "rayunits/synth/units.hpp"
+
+namespace {
+
+using namespace ru::synth;
+using ru::num::Format;
+
+std::string slurp(const std::string& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// $RU_RTL_DIR if set (to check another copy of the RTL), else the source tree's rtl/.
+std::string rtl_dir() { return default_rtl_dir(); }
+
+// Three formats per unit with a format (small, Kensler's, binary32), one configuration otherwise
+// (noise: default parameters and a non-default shape).
+std::vector<UnitConfig> configs_of(const UnitSpec& u) {
+  std::vector<UnitConfig> v;
+  if (u.uses_format) {
+    for (const char* f : {"e5m10", "e7m16", "e8m23"}) v.push_back(UnitConfig{Format::parse(f), 0, {}});
+  } else {
+    v.push_back(UnitConfig{});
+    UnitConfig c;
+    c.params = {{"FracBits", 5}, {"IntBits", 3}, {"OutW", 12}};
+    v.push_back(c);
+  }
+  return v;
+}
+
+std::string joined(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& e : v) s += e + "\n";
+  return s;
+}
+
+class RegistryRtl : public ::testing::TestWithParam<std::string> {};
+
+// The registry's maximum useful Stages equals the RTL's MaxUsefulStages at three formats; at that
+// Stages no register goes to the output, at one more exactly one does.
+TEST_P(RegistryRtl, MaxUsefulStagesMatchRtl) {
+  const UnitSpec& u = find_unit(GetParam());
+  const auto bad = check_against_rtl(u, configs_of(u), rtl_dir());
+  EXPECT_TRUE(bad.empty()) << joined(bad);
+}
+
+INSTANTIATE_TEST_SUITE_P(Units, RegistryRtl,
+                         ::testing::Values("fp_add", "fp_mul", "fp_div", "fp_cmp", "fp_dot3", "ray_box",
+                                           "ray_tri_robust", "ray_tri_mt", "noise"),
+                         [](const auto& info) { return info.param; });
+
+// Every registered unit is covered by the parameterized test above.
+TEST(Registry, EveryUnitIsCheckedAgainstTheRtl) {
+  const std::vector<std::string> checked = {"fp_add",  "fp_mul",         "fp_div",     "fp_cmp", "fp_dot3",
+                                            "ray_box", "ray_tri_robust", "ray_tri_mt", "noise"};
+  for (const auto& u : units())
+    EXPECT_NE(std::find(checked.begin(), checked.end(), u.name), checked.end()) << u.name;
+}
+
+// Permanent negative test: a registry entry off by one (either way) is reported, naming the unit
+// and the format.
+TEST(Registry, OffByOneRegistryIsCaught) {
+  for (const char* name : {"fp_add", "fp_mul", "noise"}) {
+    for (const char* delta : {"-1", "+1"}) {
+      UnitSpec u = find_unit(name);
+      u.max_stages_expr = "(" + u.max_stages_expr + ")" + delta;
+      std::vector<UnitConfig> cfgs = {configs_of(u).front()};
+      if (u.uses_format) cfgs = {UnitConfig{Format::parse("e8m23"), 0, {}}};
+      const auto bad = check_against_rtl(u, cfgs, rtl_dir());
+      ASSERT_FALSE(bad.empty()) << name << delta;
+      const std::string want = u.uses_format ? std::string(name) + " e8m23" : std::string(name);
+      EXPECT_EQ(bad.front().rfind(want + ":", 0), 0u) << bad.front();
+      EXPECT_NE(bad.front().find("MaxUsefulStages"), std::string::npos) << bad.front();
+    }
+  }
+}
+
+// A unit whose RTL lacks the localparams is reported, not silently accepted.
+TEST(Registry, MissingLocalparamIsReported) {
+  UnitSpec u = find_unit("fp_add");
+  u.top = "ru_lzc";  // a building block: no MaxUsefulStages
+  u.filelist = "ru_fp_add.f";
+  u.params = {};
+  const auto bad = check_against_rtl(u, {UnitConfig{Format::parse("e5m10"), 0, {}}}, rtl_dir());
+  ASSERT_EQ(bad.size(), 1u) << joined(bad);
+  EXPECT_NE(bad[0].find("no localparam MaxUsefulStages"), std::string::npos) << bad[0];
+}
+
+// model/data/registry.json (read by CMake at configure time) is what `rayunits registry --json`
+// writes today. Regenerate with: build/model/cli/rayunits registry --json model/data/registry.json
+TEST(Registry, JsonIsCurrent) {
+  const std::string path = std::string(RU_SOURCE_DIR) + "/model/data/registry.json";
+  EXPECT_EQ(slurp(path), registry_json(units()))
+      << path << " is stale: run `rayunits registry --json model/data/registry.json`";
+  // ... and the comparison sees a planted change.
+  std::vector<UnitSpec> planted = units();
+  planted[1].ports[3].width = "W+1";
+  EXPECT_NE(slurp(path), registry_json(planted));
+}
+
+// rtl/README.md's "useful max Stages" table (the documentation) agrees with the registry: the
+// table is parsed, not copied here.
+TEST(Registry, RtlReadmeTableAgrees) {
+  const std::string md = slurp(rtl_dir() + "/README.md");
+  auto row = [&](const std::string& head) {
+    const std::regex re("\\| " + head + " \\|([^\\n]*)\\|\\s*\\n");
+    std::smatch m;
+    EXPECT_TRUE(std::regex_search(md, m, re)) << "row '" << head << "' not found in rtl/README.md";
+    std::vector<std::string> cells;
+    std::string s = m[1].str(), cell;
+    std::stringstream ss(s);
+    while (std::getline(ss, cell, '|')) {
+      cell.erase(0, cell.find_first_not_of(' '));
+      cell.erase(cell.find_last_not_of(' ') + 1);
+      cells.push_back(cell);
+    }
+    return cells;
+  };
+  const auto fmts = row("format");
+  const auto maxs = row("max Stages mul / div / dot3");
+  ASSERT_EQ(fmts.size(), maxs.size());
+  ASSERT_GE(fmts.size(), 3u);
+  for (size_t i = 0; i < fmts.size(); ++i) {
+    SCOPED_TRACE(fmts[i]);
+    const UnitConfig c{Format::parse(fmts[i]), 0, {}};
+    int mul = -1, div = -1, dot3 = -1;
+    ASSERT_EQ(std::sscanf(maxs[i].c_str(), "%d / %d / %d", &mul, &div, &dot3), 3) << maxs[i];
+    EXPECT_EQ(find_unit("fp_mul").max_stages(c), mul);
+    EXPECT_EQ(find_unit("fp_div").max_stages(c), div);
+    EXPECT_EQ(find_unit("fp_dot3").max_stages(c), dot3);
+  }
+  // The units table: `| `ru_fp_add`  | ... | 5 |`.
+  for (const char* name : {"fp_add", "fp_cmp"}) {
+    const std::regex re("\\| `ru_" + std::string(name) + "` *\\|[^\\n]*\\| *([0-9]+) *\\|");
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(md, m, re)) << name;
+    EXPECT_EQ(find_unit(name).max_stages(UnitConfig{Format::parse("e8m23"), 0, {}}), std::stoi(m[1].str()))
+        << name;
+  }
+}
+
+TEST(Registry, ExpressionsEvaluate) {
+  const UnitSpec& mul = find_unit("fp_mul");
+  const UnitConfig c{Format::parse("e8m23"), 0, {}};
+  EXPECT_EQ(eval_expr("W", mul, c), 32);
+  EXPECT_EQ(eval_expr("3*W", mul, c), 96);
+  EXPECT_EQ(eval_expr("L+4", mul, c), 11);  // csa_levels(24) = 7
+  EXPECT_EQ(eval_expr("2*(E+M)-1", mul, c), 61);
+  EXPECT_THROW(eval_expr("FracBits", mul, c), SynthError);  // not a parameter of fp_mul
+  EXPECT_THROW(eval_expr("W+", mul, c), SynthError);
+  EXPECT_THROW(eval_expr("(W", mul, c), SynthError);
+  const UnitSpec& noise = find_unit("noise");
+  UnitConfig n;
+  n.params["FracBits"] = 12;
+  EXPECT_EQ(eval_expr("FracBits+IntBits", noise, n), 20);
+  EXPECT_THROW(eval_expr("W", noise, n), SynthError);  // the noise unit has no format
+  EXPECT_EQ(csa_levels(24), 7);
+  EXPECT_EQ(csa_levels(2), 0);
+}
+
+}  // namespace
