@@ -21,6 +21,19 @@ inline double median(std::vector<double> v) {
   return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+// "a,b,,c" -> {a, b, c}
+inline std::vector<std::string> split_list(const std::string& v) {
+  std::vector<std::string> out;
+  size_t b = 0;
+  while (b <= v.size()) {
+    size_t e = v.find(',', b);
+    if (e == std::string::npos) e = v.size();
+    if (e > b) out.push_back(v.substr(b, e - b));
+    b = e + 1;
+  }
+  return out;
+}
+
 // Parses argv with CLI11. Returns true if the command should run; false if help was printed
 // (the caller returns 0). A parse error becomes a UsageError: main() prints it as one line.
 inline bool parse_args(CLI::App& app, int argc, char** argv) {

@@ -14,18 +14,6 @@ namespace {
 
 using namespace ru::synth;
 
-std::vector<std::string> split_list(const std::string& s) {
-  std::vector<std::string> v;
-  size_t b = 0;
-  while (b <= s.size()) {
-    size_t e = s.find(',', b);
-    if (e == std::string::npos) e = s.size();
-    if (e > b) v.push_back(s.substr(b, e - b));
-    b = e + 1;
-  }
-  return v;
-}
-
 int run_registry(int argc, char** argv) {
   CLI::App app{
       "The unit registry: every hardware unit's parameters, ports (widths as expressions of the "

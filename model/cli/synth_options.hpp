@@ -36,19 +36,6 @@ struct FlowArgs {
   std::string device, timeout;
 };
 
-// "a,b,,c" -> {a, b, c}
-inline std::vector<std::string> split_list(const std::string& v) {
-  std::vector<std::string> out;
-  size_t b = 0;
-  while (b <= v.size()) {
-    size_t e = v.find(',', b);
-    if (e == std::string::npos) e = v.size();
-    if (e > b) out.push_back(v.substr(b, e - b));
-    b = e + 1;
-  }
-  return out;
-}
-
 // Sets up `app` the way these three commands parse: the given help text (instead of CLI11's
 // layout), a repeated option keeps its last value, unknown arguments are collected and reported
 // by parse_synth_args. Call before adding options.
