@@ -23,7 +23,7 @@
 //   seg 4  round-and-pack: tininess, denormalization                       | cut 4
 //   seg 5  round-and-pack: increment, overflow; special-result mux         -> y_o, flags_o
 // Stages registers go to the cut positions that minimize the deepest stage under the
-// depth estimates of ru_fp_pkg::add_seg_w (ru_fp_pkg::cut_mask). Useful maximum: Stages = 5
+// depth estimates of ru_fp_pkg::add_seg_w (ru_pipe_pkg::cut_mask). Useful maximum: Stages = 5
 // (every cut registered). Any larger Stages is accepted; the registers beyond 5 are placed
 // at the output.
 module ru_fp_add #(
@@ -32,7 +32,7 @@ module ru_fp_add #(
   parameter int unsigned Stages = 0,
   parameter int unsigned Subnormals = 1,
   parameter int unsigned Round = 0,
-  parameter logic [63:0] CutSel = 64'h8000_0000_0000_0000
+  parameter logic [ru_pipe_pkg::MaxSeg:0] CutSel = ru_pipe_pkg::AutoCuts
 ) (
   input  logic                clk_i,
   input  logic                rst_ni,
@@ -51,13 +51,14 @@ module ru_fp_add #(
   localparam int unsigned SW = FracW + 5;  // sum (with carry)
   localparam int unsigned ShW = ru_fp_pkg::clog2p(XW + 1);
   localparam int unsigned ExpIW = ru_fp_pkg::exp_iw(ExpW, FracW);
-  localparam logic [63:0] Cuts = ru_fp_pkg::sel_mask(
+  localparam logic [ru_pipe_pkg::MaxSeg:0] Cuts = ru_pipe_pkg::sel_mask(
       CutSel, ru_fp_pkg::add_seg_w(ExpW, FracW, Subnormals), ru_fp_pkg::add_nseg(), Stages);
   // Useful maximum of Stages (a register at every cut position) and the registers placed at the
   // output (Stages - popcount(Cuts); with automatic placement: those beyond MaxUsefulStages).
-  localparam int unsigned MaxUsefulStages = ru_fp_pkg::max_useful(ru_fp_pkg::add_nseg());
-  localparam int unsigned OutRegs = ru_fp_pkg::out_regs(Cuts, Stages);
-  if (CutSel[63] && OutRegs != ru_fp_pkg::extra_regs(Stages, MaxUsefulStages)) begin : gen_out_check
+  localparam int unsigned MaxUsefulStages = ru_pipe_pkg::max_useful(ru_fp_pkg::add_nseg());
+  localparam int unsigned OutRegs = ru_pipe_pkg::out_regs(Cuts, Stages);
+  if (CutSel[ru_pipe_pkg::MaxSeg] &&
+      OutRegs != ru_pipe_pkg::extra_regs(Stages, MaxUsefulStages)) begin : gen_out_check
     $error("ru_fp_add: internal error: %0d output registers at Stages %0d", OutRegs, Stages);
   end
   // special-case bundle {nan, invalid, inf, inf_sign}
@@ -98,7 +99,7 @@ module ru_fp_add #(
   logic [N-1:0]    c0_ma, c0_mb;
   logic [ExpW-1:0] c0_d, c0_ex;
   logic [SpW-1:0]  c0_sp;
-  ru_fp_pipe #(.Width(2 * N + 3 + 2 * ExpW + SpW), .Depth(Cuts[0] ? 1 : 0)) u_cut0 (
+  ru_pipe #(.Width(2 * N + 3 + 2 * ExpW + SpW), .Depth(Cuts[0] ? 1 : 0)) u_cut0 (
     .clk_i, .rst_ni,
     .valid_i(in_valid_i),
     .data_i ({ma, mb, sa, sb, s0_swap, s0_d, s0_ex, s0_sp}),
@@ -125,7 +126,7 @@ module ru_fp_add #(
   logic [XW-1:0]   c1_x, c1_y;
   logic [ExpW-1:0] c1_ex;
   logic [SpW-1:0]  c1_sp;
-  ru_fp_pipe #(.Width(2 * XW + 2 + ExpW + SpW), .Depth(Cuts[1] ? 1 : 0)) u_cut1 (
+  ru_pipe #(.Width(2 * XW + 2 + ExpW + SpW), .Depth(Cuts[1] ? 1 : 0)) u_cut1 (
     .clk_i, .rst_ni,
     .valid_i(c0_valid),
     .data_i ({s1_x, s1_y, s1_sx, s1_sub, c0_ex, c0_sp}),
@@ -142,7 +143,7 @@ module ru_fp_add #(
   logic [SW-1:0]   c2_sum;
   logic [ExpW-1:0] c2_ex;
   logic [SpW-1:0]  c2_sp;
-  ru_fp_pipe #(.Width(SW + 2 + ExpW + SpW), .Depth(Cuts[2] ? 1 : 0)) u_cut2 (
+  ru_pipe #(.Width(SW + 2 + ExpW + SpW), .Depth(Cuts[2] ? 1 : 0)) u_cut2 (
     .clk_i, .rst_ni,
     .valid_i(c1_valid),
     .data_i ({s2_sum, c1_sx, c1_sub, c1_ex, c1_sp}),
@@ -165,7 +166,7 @@ module ru_fp_add #(
   logic [FracW+1:0]        c3_sig;
   logic signed [ExpIW-1:0] c3_exp;
   logic [SpW-1:0]          c3_sp;
-  ru_fp_pipe #(.Width(FracW + 2 + 1 + ExpIW + 3 + SpW), .Depth(Cuts[3] ? 1 : 0)) u_cut3 (
+  ru_pipe #(.Width(FracW + 2 + 1 + ExpIW + 3 + SpW), .Depth(Cuts[3] ? 1 : 0)) u_cut3 (
     .clk_i, .rst_ni,
     .valid_i(c2_valid),
     .data_i ({n_sum[SW-1:3], |n_sum[2:0], n_exp, n_zero, c2_sx, c2_sub, c2_sp}),
@@ -209,7 +210,7 @@ module ru_fp_add #(
   end
 
   // ---- output registers (Stages beyond the cuts used) ------------------------------------
-  ru_fp_pipe #(.Width(W + 5), .Depth(OutRegs)) u_out (
+  ru_pipe #(.Width(W + 5), .Depth(OutRegs)) u_out (
     .clk_i, .rst_ni,
     .valid_i(r_valid),
     .data_i ({y, flags}),

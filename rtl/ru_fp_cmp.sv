@@ -20,7 +20,7 @@
 //   seg 0  unpack, flush subnormals (Subnormals = 0), classify NaNs/zeros  | cut 0
 //   seg 1  sign-magnitude comparison of the (flushed) operands             | cut 1
 //   seg 2  operation select, NaN handling                                  -> y_o, flags_o
-// Stages registers go to the cut positions chosen by ru_fp_pkg::cut_mask with the depth
+// Stages registers go to the cut positions chosen by ru_pipe_pkg::cut_mask with the depth
 // estimates of ru_fp_pkg::cmp_seg_w. Useful maximum: Stages = 2. Any larger Stages is
 // accepted; registers that no cut needs are placed at the output.
 module ru_fp_cmp #(
@@ -29,7 +29,7 @@ module ru_fp_cmp #(
   parameter int unsigned Stages = 0,
   parameter int unsigned Subnormals = 1,
   parameter int unsigned Round = 0,
-  parameter logic [63:0] CutSel = 64'h8000_0000_0000_0000
+  parameter logic [ru_pipe_pkg::MaxSeg:0] CutSel = ru_pipe_pkg::AutoCuts
 ) (
   input  logic                clk_i,
   input  logic                rst_ni,
@@ -43,13 +43,14 @@ module ru_fp_cmp #(
 );
 
   localparam int unsigned W = 1 + ExpW + FracW;
-  localparam logic [63:0] Cuts = ru_fp_pkg::sel_mask(
+  localparam logic [ru_pipe_pkg::MaxSeg:0] Cuts = ru_pipe_pkg::sel_mask(
       CutSel, ru_fp_pkg::cmp_seg_w(ExpW, FracW), ru_fp_pkg::cmp_nseg(), Stages);
   // Useful maximum of Stages (a register at every cut position) and the registers placed at the
   // output (Stages - popcount(Cuts); with automatic placement: those beyond MaxUsefulStages).
-  localparam int unsigned MaxUsefulStages = ru_fp_pkg::max_useful(ru_fp_pkg::cmp_nseg());
-  localparam int unsigned OutRegs = ru_fp_pkg::out_regs(Cuts, Stages);
-  if (CutSel[63] && OutRegs != ru_fp_pkg::extra_regs(Stages, MaxUsefulStages)) begin : gen_out_check
+  localparam int unsigned MaxUsefulStages = ru_pipe_pkg::max_useful(ru_fp_pkg::cmp_nseg());
+  localparam int unsigned OutRegs = ru_pipe_pkg::out_regs(Cuts, Stages);
+  if (CutSel[ru_pipe_pkg::MaxSeg] &&
+      OutRegs != ru_pipe_pkg::extra_regs(Stages, MaxUsefulStages)) begin : gen_out_check
     $error("ru_fp_cmp: internal error: %0d output registers at Stages %0d", OutRegs, Stages);
   end
   localparam int unsigned ClsW = 4;  // {nan, snan, zero, sign}
@@ -77,7 +78,7 @@ module ru_fp_cmp #(
   logic [W-1:0]    c0_a, c0_b;
   logic [ClsW-1:0] c0_ca, c0_cb;
   logic [2:0]      c0_op;
-  ru_fp_pipe #(.Width(2 * W + 2 * ClsW + 3), .Depth(Cuts[0] ? 1 : 0)) u_cut0 (
+  ru_pipe #(.Width(2 * W + 2 * ClsW + 3), .Depth(Cuts[0] ? 1 : 0)) u_cut0 (
     .clk_i, .rst_ni,
     .valid_i(in_valid_i),
     .data_i ({s0_a, s0_b, na, sna, za, sa, nb, snb, zb, sb, op_i}),
@@ -112,7 +113,7 @@ module ru_fp_cmp #(
   logic [W-1:0]    c1_a, c1_b;
   logic [ClsW-1:0] c1_ca, c1_cb;
   logic [2:0]      c1_op;
-  ru_fp_pipe #(.Width(2 * W + 2 * ClsW + 3 + 3), .Depth(Cuts[1] ? 1 : 0)) u_cut1 (
+  ru_pipe #(.Width(2 * W + 2 * ClsW + 3 + 3), .Depth(Cuts[1] ? 1 : 0)) u_cut1 (
     .clk_i, .rst_ni,
     .valid_i(c0_valid),
     .data_i ({c0_a, c0_b, c0_ca, c0_cb, c0_op, s1_tlt, s1_eq, s1_lt}),
@@ -164,7 +165,7 @@ module ru_fp_cmp #(
   end
 
   // ---- output registers (Stages beyond the cuts used) ------------------------------------
-  ru_fp_pipe #(.Width(W + 5), .Depth(OutRegs)) u_out (
+  ru_pipe #(.Width(W + 5), .Depth(OutRegs)) u_out (
     .clk_i, .rst_ni,
     .valid_i(c1_valid),
     .data_i ({y, flags}),

@@ -1,5 +1,6 @@
+ru_pipe_pkg.sv
 ru_fp_pkg.sv
-ru_fp_pipe.sv
+ru_pipe.sv
 ru_lzc.sv
 ru_fp_classify.sv
 ru_fp_normalize.sv

@@ -21,7 +21,7 @@
 //   seg FracW+4       quotient select, round-and-pack: tininess, denormalization  | cut FracW+4
 //   seg FracW+5       round-and-pack: increment, overflow; special-result mux -> y_o, flags_o
 // Stages registers go to the cut positions that minimize the deepest stage under the
-// depth estimates of ru_fp_pkg::div_seg_w (ru_fp_pkg::cut_mask), i.e. they are spread among
+// depth estimates of ru_fp_pkg::div_seg_w (ru_pipe_pkg::cut_mask), i.e. they are spread among
 // the recurrence steps. Useful maximum: Stages = FracW+5 (every cut registered). Any larger
 // Stages is accepted; the registers beyond FracW+5 are placed at the output.
 module ru_fp_div #(
@@ -30,7 +30,7 @@ module ru_fp_div #(
   parameter int unsigned Stages = 0,
   parameter int unsigned Subnormals = 1,
   parameter int unsigned Round = 0,
-  parameter logic [63:0] CutSel = 64'h8000_0000_0000_0000
+  parameter logic [ru_pipe_pkg::MaxSeg:0] CutSel = ru_pipe_pkg::AutoCuts
 ) (
   input  logic                clk_i,
   input  logic                rst_ni,
@@ -47,14 +47,15 @@ module ru_fp_div #(
   localparam int unsigned RW = FracW + 2;     // partial remainder width (r < 2 * mb)
   localparam int unsigned NSteps = FracW + 3; // quotient bits
   localparam int unsigned ExpIW = ru_fp_pkg::exp_iw(ExpW, FracW);
-  localparam logic [63:0] Cuts = ru_fp_pkg::sel_mask(
+  localparam logic [ru_pipe_pkg::MaxSeg:0] Cuts = ru_pipe_pkg::sel_mask(
       CutSel, ru_fp_pkg::div_seg_w(ExpW, FracW, Subnormals), ru_fp_pkg::div_nseg(FracW),
       Stages);
   // Useful maximum of Stages (a register at every cut position) and the registers placed at the
   // output (Stages - popcount(Cuts); with automatic placement: those beyond MaxUsefulStages).
-  localparam int unsigned MaxUsefulStages = ru_fp_pkg::max_useful(ru_fp_pkg::div_nseg(FracW));
-  localparam int unsigned OutRegs = ru_fp_pkg::out_regs(Cuts, Stages);
-  if (CutSel[63] && OutRegs != ru_fp_pkg::extra_regs(Stages, MaxUsefulStages)) begin : gen_out_check
+  localparam int unsigned MaxUsefulStages = ru_pipe_pkg::max_useful(ru_fp_pkg::div_nseg(FracW));
+  localparam int unsigned OutRegs = ru_pipe_pkg::out_regs(Cuts, Stages);
+  if (CutSel[ru_pipe_pkg::MaxSeg] &&
+      OutRegs != ru_pipe_pkg::extra_regs(Stages, MaxUsefulStages)) begin : gen_out_check
     $error("ru_fp_div: internal error: %0d output registers at Stages %0d", OutRegs, Stages);
   end
   localparam int signed Bias = (1 << (ExpW - 1)) - 1;
@@ -104,7 +105,7 @@ module ru_fp_div #(
   logic            c0_valid;
   logic [N-1:0]    c0_ma, c0_mb;
   logic [AuxW-1:0] c0_aux;
-  ru_fp_pipe #(.Width(2 * N + AuxW), .Depth(Cuts[0] ? 1 : 0)) u_cut0 (
+  ru_pipe #(.Width(2 * N + AuxW), .Depth(Cuts[0] ? 1 : 0)) u_cut0 (
     .clk_i, .rst_ni,
     .valid_i(in_valid_i),
     .data_i ({na_sig, nb_sig, sa ^ sb, s0_exp, s0_nan, s0_invalid, s0_inf, s0_divzero, s0_zero}),
@@ -139,7 +140,7 @@ module ru_fp_div #(
     end else begin : gen_qn
       assign q_d = {gen_step[k-1].q, ~diff[RW]};
     end
-    ru_fp_pipe #(.Width(RW + N + k + 1 + AuxW), .Depth(Cuts[k+1] ? 1 : 0)) u_cut (
+    ru_pipe #(.Width(RW + N + k + 1 + AuxW), .Depth(Cuts[k+1] ? 1 : 0)) u_cut (
       .clk_i, .rst_ni,
       .valid_i(valid_in),
       .data_i ({r_d, dv_in, q_d, aux_in}),
@@ -199,7 +200,7 @@ module ru_fp_div #(
   end
 
   // ---- output registers (Stages beyond the cuts used) ------------------------------------
-  ru_fp_pipe #(.Width(W + 5), .Depth(OutRegs)) u_out (
+  ru_pipe #(.Width(W + 5), .Depth(OutRegs)) u_out (
     .clk_i, .rst_ni,
     .valid_i(r_valid),
     .data_i ({y, flags}),

@@ -2,13 +2,13 @@
 //   y = round(round(round(u0*v0) + round(u1*v1)) + round(u2*v2))     (docs/FORMAT.md, not fused)
 // with the register placement given per level by the instantiating unit: three ru_fp_mul in one
 // level (MulStages/MulCuts), u0*v0 + u1*v1 in the next (Add1Stages/Add1Cuts; the third product
-// and the product flags wait in an ru_fp_pipe meanwhile), the third product added in the last
+// and the product flags wait in an ru_pipe meanwhile), the third product added in the last
 // (Add2Stages/Add2Cuts; the earlier flags wait beside it). flags_o is the OR of the flags of all
 // five operations. Vectors packed {z, y, x} (u0 in the least significant bits).
 // Latency = MulStages + Add1Stages + Add2Stages; one dot product per cycle.
 //
-// Used by ru_fp_dot3 (which places Stages registers over the whole chain, ru_fp_pkg::cut_mask)
-// and by the ray-triangle units (per-level placement from ru_ray_tri_pkg; they leave flags_o
+// Used by ru_fp_dot3 (which places Stages registers over the whole chain, ru_pipe_pkg::cut_mask)
+// and by the ray-triangle units (per-level placement from ru_pipe_pkg; they leave flags_o
 // unconnected, so synthesis removes the flag delay lines).
 module ru_fp_dot3_core #(
   parameter int unsigned ExpW = 8,
@@ -16,11 +16,11 @@ module ru_fp_dot3_core #(
   parameter int unsigned Subnormals = 1,
   parameter int unsigned Round = 0,
   parameter int unsigned MulStages = 0,
-  parameter logic [63:0] MulCuts = 64'h8000_0000_0000_0000,
+  parameter logic [ru_pipe_pkg::MaxSeg:0] MulCuts = ru_pipe_pkg::AutoCuts,
   parameter int unsigned Add1Stages = 0,
-  parameter logic [63:0] Add1Cuts = 64'h8000_0000_0000_0000,
+  parameter logic [ru_pipe_pkg::MaxSeg:0] Add1Cuts = ru_pipe_pkg::AutoCuts,
   parameter int unsigned Add2Stages = 0,
-  parameter logic [63:0] Add2Cuts = 64'h8000_0000_0000_0000
+  parameter logic [ru_pipe_pkg::MaxSeg:0] Add2Cuts = ru_pipe_pkg::AutoCuts
 ) (
   input  logic                        clk_i,
   input  logic                        rst_ni,
@@ -70,7 +70,7 @@ module ru_fp_dot3_core #(
     .y_o        (s),
     .flags_o    (s_flags)
   );
-  ru_fp_pipe #(.Width(W + 5), .Depth(Add1Stages)) u_wait1 (
+  ru_pipe #(.Width(W + 5), .Depth(Add1Stages)) u_wait1 (
     .clk_i, .rst_ni,
     .valid_i(p_valid[0]),
     .data_i ({p[2*W+:W], p_flags[0+:5] | p_flags[5+:5] | p_flags[10+:5]}),
@@ -96,7 +96,7 @@ module ru_fp_dot3_core #(
     .flags_o    (y_flags)
   );
   logic unused_e_valid;
-  ru_fp_pipe #(.Width(5), .Depth(Add2Stages)) u_wait2 (
+  ru_pipe #(.Width(5), .Depth(Add2Stages)) u_wait2 (
     .clk_i, .rst_ni,
     .valid_i(s_valid),
     .data_i (s_flags | d_flags),

@@ -14,7 +14,7 @@
 //   seg L+3    round-and-pack: tininess, denormalization                 | cut L+3
 //   seg L+4    round-and-pack: increment, overflow; special-result mux   -> y_o, flags_o
 // Stages registers go to the cut positions that minimize the deepest stage under the
-// depth estimates of ru_fp_pkg::mul_seg_w (ru_fp_pkg::cut_mask). Useful maximum:
+// depth estimates of ru_fp_pkg::mul_seg_w (ru_pipe_pkg::cut_mask). Useful maximum:
 // Stages = L+4 (every cut registered). Any larger Stages is accepted; the registers beyond
 // L+4 are placed at the output.
 module ru_fp_mul #(
@@ -23,7 +23,7 @@ module ru_fp_mul #(
   parameter int unsigned Stages = 0,
   parameter int unsigned Subnormals = 1,
   parameter int unsigned Round = 0,
-  parameter logic [63:0] CutSel = 64'h8000_0000_0000_0000
+  parameter logic [ru_pipe_pkg::MaxSeg:0] CutSel = ru_pipe_pkg::AutoCuts
 ) (
   input  logic                clk_i,
   input  logic                rst_ni,
@@ -39,13 +39,14 @@ module ru_fp_mul #(
   localparam int unsigned N = FracW + 1;  // significand width
   localparam int unsigned ExpIW = ru_fp_pkg::exp_iw(ExpW, FracW);
   localparam int unsigned L = ru_fp_pkg::csa_levels(N);
-  localparam logic [63:0] Cuts = ru_fp_pkg::sel_mask(
+  localparam logic [ru_pipe_pkg::MaxSeg:0] Cuts = ru_pipe_pkg::sel_mask(
       CutSel, ru_fp_pkg::mul_seg_w(ExpW, FracW, Subnormals), ru_fp_pkg::mul_nseg(FracW), Stages);
   // Useful maximum of Stages (a register at every cut position) and the registers placed at the
   // output (Stages - popcount(Cuts); with automatic placement: those beyond MaxUsefulStages).
-  localparam int unsigned MaxUsefulStages = ru_fp_pkg::max_useful(ru_fp_pkg::mul_nseg(FracW));
-  localparam int unsigned OutRegs = ru_fp_pkg::out_regs(Cuts, Stages);
-  if (CutSel[63] && OutRegs != ru_fp_pkg::extra_regs(Stages, MaxUsefulStages)) begin : gen_out_check
+  localparam int unsigned MaxUsefulStages = ru_pipe_pkg::max_useful(ru_fp_pkg::mul_nseg(FracW));
+  localparam int unsigned OutRegs = ru_pipe_pkg::out_regs(Cuts, Stages);
+  if (CutSel[ru_pipe_pkg::MaxSeg] &&
+      OutRegs != ru_pipe_pkg::extra_regs(Stages, MaxUsefulStages)) begin : gen_out_check
     $error("ru_fp_mul: internal error: %0d output registers at Stages %0d", OutRegs, Stages);
   end
   localparam int signed Bias = (1 << (ExpW - 1)) - 1;
@@ -82,7 +83,7 @@ module ru_fp_mul #(
   logic            c0_valid;
   logic [N-1:0]    c0_ma, c0_mb;
   logic [AuxW-1:0] c0_aux;
-  ru_fp_pipe #(.Width(2 * N + AuxW), .Depth(Cuts[0] ? 1 : 0)) u_cut0 (
+  ru_pipe #(.Width(2 * N + AuxW), .Depth(Cuts[0] ? 1 : 0)) u_cut0 (
     .clk_i, .rst_ni,
     .valid_i(in_valid_i),
     .data_i ({ma, mb, s0_sign, s0_exp, s0_nan, s0_inf, s0_zero, s0_invalid}),
@@ -121,7 +122,7 @@ module ru_fp_mul #(
   logic                    c2_valid, c2_sign, c2_nan, c2_inf, c2_zero, c2_invalid, c2_sticky;
   logic signed [ExpIW-1:0] c2_exp;
   logic [N:0]              c2_sig;
-  ru_fp_pipe #(.Width(N + 1 + AuxW + 1), .Depth(Cuts[L+2] ? 1 : 0)) u_cut2 (
+  ru_pipe #(.Width(N + 1 + AuxW + 1), .Depth(Cuts[L+2] ? 1 : 0)) u_cut2 (
     .clk_i, .rst_ni,
     .valid_i(c1_valid),
     .data_i ({n_prod[2*N-1:N-1], n_sticky, c1_sign, n_exp, c1_nan, c1_inf, c1_zero,
@@ -161,7 +162,7 @@ module ru_fp_mul #(
   end
 
   // ---- output registers (Stages beyond the cuts used) ------------------------------------
-  ru_fp_pipe #(.Width(W + 5), .Depth(OutRegs)) u_out (
+  ru_pipe #(.Width(W + 5), .Depth(OutRegs)) u_out (
     .clk_i, .rst_ni,
     .valid_i(r_valid),
     .data_i ({y, flags}),

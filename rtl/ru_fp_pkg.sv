@@ -6,24 +6,21 @@
 //   * exp_iw()      width of the signed internal exponent,
 //   * round_up()    the rounding truth table (the one implementation of it),
 //   * csa_*()       the shape of the carry-save multiplier tree (ru_umul),
-//   * *_seg_w()     per-unit segment depth estimates and cut_mask(), which turns a
-//                   requested latency (Stages) into pipeline-register positions.
+//   * *_nseg(), *_seg_w()  the pipeline segments of each FP unit and their gate-depth
+//                   estimates, and op_nsegs()/op_wts(), the same as the kind table (KAdd,
+//                   KMul, KDiv, KCmp) of the level chains of ru_fp_dot3 and the ray units.
+// Where the registers go is decided by ru_pipe_pkg (cut_mask) from these estimates.
 //
-// Pipelining model. A unit's datapath is a chain of NSeg combinational segments; between
-// segment i and i+1 lies cut position i (0..NSeg-2). cut_mask() picks which cut positions get
-// a register for a given Stages so that the deepest stage is as shallow as the segment
-// granularity allows (binary search on the stage depth bound + greedy packing, using the
-// gate-level depth estimates below); registers left over then split the heaviest remaining
-// stages at unused cut positions. Only when every cut position is taken do the remaining
-// Stages-popcount(mask) registers go to the unit's output (out_regs()).
-//
-// Yosys 0.23 note: functions assign their name instead of using `return`.
+// Yosys 0.23 note: functions assign their name instead of using `return`; ru_pipe_pkg is named
+// only inside functions (see ru_pipe_pkg: Yosys cannot name another package in package-level
+// declarations).
 package ru_fp_pkg;
 
-  // Maximum number of segments a unit may have (cut masks are 64 bits; bit 63 is the
-  // "automatic" sentinel of the units' CutSel parameter and is never a real cut position).
-  localparam int unsigned MaxSeg = 63;
-  localparam int unsigned SegWW = 8;  // bits per segment weight in a packed weight vector
+  // Level kinds of the level chains (ru_pipe_pkg): the index of each FP unit in op_nsegs/op_wts.
+  localparam logic [3:0] KAdd = 4'd0;
+  localparam logic [3:0] KMul = 4'd1;
+  localparam logic [3:0] KDiv = 4'd2;
+  localparam logic [3:0] KCmp = 4'd3;
 
   // Rounding modes (the units' Round parameter): 0 RNE, 1 RTZ, 2 RDN, 3 RUP.
 
@@ -117,33 +114,24 @@ package ru_fp_pkg;
     d_round_b = 2 + d_add(exp_iw(exp_w, frac_w) + frac_w) + clog2p(exp_w) + 4;
   endfunction
 
-  function automatic logic [MaxSeg*SegWW-1:0] put_w(input logic [MaxSeg*SegWW-1:0] v,
-                                                     input int unsigned idx,
-                                                     input int unsigned w);
-    logic [MaxSeg*SegWW-1:0] r;
-    r = v;
-    r[idx*SegWW+:SegWW] = SegWW'((w > 255) ? 255 : w);
-    put_w = r;
-  endfunction
-
   // ru_fp_mul: unpack | CSA level 1 .. L | final adder | normalize | round A | round B
   function automatic int unsigned mul_nseg(input int unsigned frac_w);
     mul_nseg = csa_levels(frac_w + 1) + 5;
   endfunction
-  function automatic logic [MaxSeg*SegWW-1:0] mul_seg_w(input int unsigned exp_w,
-                                                        input int unsigned frac_w,
-                                                        input int unsigned sub);
-    logic [MaxSeg*SegWW-1:0] v;
+  function automatic logic [ru_pipe_pkg::WW-1:0] mul_seg_w(input int unsigned exp_w,
+                                                              input int unsigned frac_w,
+                                                              input int unsigned sub);
+    logic [ru_pipe_pkg::WW-1:0] v;
     int unsigned l, n;
     n = frac_w + 1;
     l = csa_levels(n);
     v = '0;
-    v = put_w(v, 0, d_add(exp_iw(exp_w, frac_w)) + 1);
-    for (int unsigned k = 1; k <= MaxSeg; k++) if (k <= l) v = put_w(v, k, (k == 1) ? 3 : 2);
-    v = put_w(v, l + 1, d_add(2 * n));
-    v = put_w(v, l + 2, (sub != 0) ? d_lzc(2 * n) + d_shift(2 * n) : 2);
-    v = put_w(v, l + 3, d_round_a(exp_w, frac_w, sub));
-    v = put_w(v, l + 4, d_round_b(exp_w, frac_w) + 2);
+    v = ru_pipe_pkg::put_w(v, 0, d_add(exp_iw(exp_w, frac_w)) + 1);
+    for (int unsigned k = 1; k <= l; k++) v = ru_pipe_pkg::put_w(v, k, (k == 1) ? 3 : 2);
+    v = ru_pipe_pkg::put_w(v, l + 1, d_add(2 * n));
+    v = ru_pipe_pkg::put_w(v, l + 2, (sub != 0) ? d_lzc(2 * n) + d_shift(2 * n) : 2);
+    v = ru_pipe_pkg::put_w(v, l + 3, d_round_a(exp_w, frac_w, sub));
+    v = ru_pipe_pkg::put_w(v, l + 4, d_round_b(exp_w, frac_w) + 2);
     mul_seg_w = v;
   endfunction
 
@@ -151,17 +139,17 @@ package ru_fp_pkg;
   function automatic int unsigned add_nseg();
     add_nseg = 6;
   endfunction
-  function automatic logic [MaxSeg*SegWW-1:0] add_seg_w(input int unsigned exp_w,
-                                                        input int unsigned frac_w,
-                                                        input int unsigned sub);
-    logic [MaxSeg*SegWW-1:0] v;
+  function automatic logic [ru_pipe_pkg::WW-1:0] add_seg_w(input int unsigned exp_w,
+                                                              input int unsigned frac_w,
+                                                              input int unsigned sub);
+    logic [ru_pipe_pkg::WW-1:0] v;
     v = '0;
-    v = put_w(v, 0, d_add(exp_w + frac_w) + 1);
-    v = put_w(v, 1, d_shift(frac_w + 5) + clog2p(frac_w + 5) + 2);
-    v = put_w(v, 2, d_add(frac_w + 5) + 1);
-    v = put_w(v, 3, d_lzc(frac_w + 5) + d_shift(frac_w + 5));
-    v = put_w(v, 4, d_round_a(exp_w, frac_w, sub));
-    v = put_w(v, 5, d_round_b(exp_w, frac_w) + 2);
+    v = ru_pipe_pkg::put_w(v, 0, d_add(exp_w + frac_w) + 1);
+    v = ru_pipe_pkg::put_w(v, 1, d_shift(frac_w + 5) + clog2p(frac_w + 5) + 2);
+    v = ru_pipe_pkg::put_w(v, 2, d_add(frac_w + 5) + 1);
+    v = ru_pipe_pkg::put_w(v, 3, d_lzc(frac_w + 5) + d_shift(frac_w + 5));
+    v = ru_pipe_pkg::put_w(v, 4, d_round_a(exp_w, frac_w, sub));
+    v = ru_pipe_pkg::put_w(v, 5, d_round_b(exp_w, frac_w) + 2);
     add_seg_w = v;
   endfunction
 
@@ -169,175 +157,57 @@ package ru_fp_pkg;
   function automatic int unsigned div_nseg(input int unsigned frac_w);
     div_nseg = frac_w + 6;
   endfunction
-  function automatic logic [MaxSeg*SegWW-1:0] div_seg_w(input int unsigned exp_w,
-                                                        input int unsigned frac_w,
-                                                        input int unsigned sub);
-    logic [MaxSeg*SegWW-1:0] v;
+  function automatic logic [ru_pipe_pkg::WW-1:0] div_seg_w(input int unsigned exp_w,
+                                                              input int unsigned frac_w,
+                                                              input int unsigned sub);
+    logic [ru_pipe_pkg::WW-1:0] v;
     v = '0;
-    v = put_w(v, 0, max2(d_add(exp_iw(exp_w, frac_w)),
-                         (sub != 0) ? d_lzc(frac_w + 1) + d_shift(frac_w + 1) : 2) + 2);
-    for (int unsigned k = 1; k <= MaxSeg; k++)
-      if (k <= frac_w + 3) v = put_w(v, k, d_add(frac_w + 3) + 1);
-    v = put_w(v, frac_w + 4, clog2p(frac_w + 3) + 2 + d_round_a(exp_w, frac_w, sub));
-    v = put_w(v, frac_w + 5, d_round_b(exp_w, frac_w) + 2);
+    v = ru_pipe_pkg::put_w(v, 0, max2(d_add(exp_iw(exp_w, frac_w)),
+                                      (sub != 0) ? d_lzc(frac_w + 1) + d_shift(frac_w + 1) : 2) + 2);
+    for (int unsigned k = 1; k <= frac_w + 3; k++)
+      v = ru_pipe_pkg::put_w(v, k, d_add(frac_w + 3) + 1);
+    v = ru_pipe_pkg::put_w(v, frac_w + 4,
+                           clog2p(frac_w + 3) + 2 + d_round_a(exp_w, frac_w, sub));
+    v = ru_pipe_pkg::put_w(v, frac_w + 5, d_round_b(exp_w, frac_w) + 2);
     div_seg_w = v;
-  endfunction
-
-  // ru_fp_dot3: the segments of ru_fp_mul, then two times those of ru_fp_add
-  function automatic int unsigned dot3_nseg(input int unsigned frac_w);
-    dot3_nseg = mul_nseg(frac_w) + 2 * add_nseg();
-  endfunction
-  function automatic logic [MaxSeg*SegWW-1:0] dot3_seg_w(input int unsigned exp_w,
-                                                         input int unsigned frac_w,
-                                                         input int unsigned sub);
-    int unsigned lm;
-    lm = mul_nseg(frac_w);
-    dot3_seg_w = mul_seg_w(exp_w, frac_w, sub) | (add_seg_w(exp_w, frac_w, sub) << (lm * SegWW)) |
-                 (add_seg_w(exp_w, frac_w, sub) << ((lm + add_nseg()) * SegWW));
   endfunction
 
   // ru_fp_cmp: unpack/flush/classify | magnitude compare | operation select
   function automatic int unsigned cmp_nseg();
     cmp_nseg = 3;
   endfunction
-  function automatic logic [MaxSeg*SegWW-1:0] cmp_seg_w(input int unsigned exp_w,
-                                                        input int unsigned frac_w);
-    logic [MaxSeg*SegWW-1:0] v;
+  function automatic logic [ru_pipe_pkg::WW-1:0] cmp_seg_w(input int unsigned exp_w,
+                                                              input int unsigned frac_w);
+    logic [ru_pipe_pkg::WW-1:0] v;
     v = '0;
-    v = put_w(v, 0, clog2p(max2(exp_w, frac_w)) + 2);
-    v = put_w(v, 1, d_add(exp_w + frac_w));
-    v = put_w(v, 2, 4);
+    v = ru_pipe_pkg::put_w(v, 0, clog2p(max2(exp_w, frac_w)) + 2);
+    v = ru_pipe_pkg::put_w(v, 1, d_add(exp_w + frac_w));
+    v = ru_pipe_pkg::put_w(v, 2, 4);
     cmp_seg_w = v;
   endfunction
 
   // ---------------------------------------------------------------------------------------
-  // Cut placement. w: packed segment weights (segment i at w[i*SegWW +: SegWW]).
-
-  // Greedy packing with stage depth bound `cap`: returns the cut mask; sets bit 63 when the
-  // bound cannot be met with at most `stages` cuts.
-  function automatic logic [63:0] pack_cuts(input logic [MaxSeg*SegWW-1:0] w,
-                                            input int unsigned nseg, input int unsigned stages,
-                                            input int unsigned cap);
-    logic [63:0] m;
-    int unsigned acc, cnt, wi;
-    m = '0;
-    acc = 0;
-    cnt = 0;
-    for (int unsigned i = 0; i < MaxSeg; i++) begin
-      if (i < nseg) begin
-        wi = 32'(w[i*SegWW+:SegWW]);
-        if (wi > cap) m[63] = 1'b1;
-        if (i > 0 && acc + wi > cap) begin
-          m[i-1] = 1'b1;
-          cnt++;
-          acc = wi;
-        end else begin
-          acc += wi;
-        end
-      end
-    end
-    if (cnt > stages) m[63] = 1'b1;
-    pack_cuts = m;
+  // The kind table of the level chains (ru_pipe_pkg::unit_cuts): segment counts (8 bits each)
+  // and segment weights (ru_pipe_pkg::WW bits each) of the FP unit of kind k at index k.
+  function automatic logic [8*ru_pipe_pkg::MaxKind-1:0] op_nsegs(input int unsigned frac_w);
+    logic [8*ru_pipe_pkg::MaxKind-1:0] r;
+    r = '0;
+    r[32'(KAdd)*8+:8] = 8'(add_nseg());
+    r[32'(KMul)*8+:8] = 8'(mul_nseg(frac_w));
+    r[32'(KDiv)*8+:8] = 8'(div_nseg(frac_w));
+    r[32'(KCmp)*8+:8] = 8'(cmp_nseg());
+    op_nsegs = r;
   endfunction
 
-  function automatic int unsigned popcount(input logic [63:0] m);
-    int unsigned c;
-    c = 0;
-    for (int unsigned i = 0; i < 63; i++) c += 32'(m[i]);
-    popcount = c;
-  endfunction
-
-  function automatic logic [63:0] split_heaviest(input logic [MaxSeg*SegWW-1:0] w,
-                                                 input int unsigned nseg, input logic [63:0] m);
-    int unsigned start, acc, best_w, best_start, best_end, left, cost, best_cost;
-    logic [5:0] best_pos;
-    logic [63:0] r;
-    r = m;
-    best_w = 0;
-    best_start = 0;
-    best_end = 0;
-    start = 0;
-    acc = 0;
-    // find the heaviest stage [start, i] containing at least one unused cut position
-    for (int unsigned i = 0; i < MaxSeg; i++) begin
-      if (i < nseg) begin
-        acc += 32'(w[i*SegWW+:SegWW]);
-        if (i + 1 == nseg || m[i]) begin
-          if (i > start && acc > best_w) begin
-            best_w = acc;
-            best_start = start;
-            best_end = i;
-          end
-          start = i + 1;
-          acc = 0;
-        end
-      end
-    end
-    if (best_w > 0) begin
-      left = 0;
-      best_cost = best_w + 1;
-      best_pos = 6'(best_start);
-      for (int unsigned i = 0; i < MaxSeg; i++) begin
-        if (i >= best_start && i < best_end) begin
-          left += 32'(w[i*SegWW+:SegWW]);
-          cost = (left > best_w - left) ? left : best_w - left;
-          if (cost < best_cost) begin
-            best_cost = cost;
-            best_pos = 6'(i);
-          end
-        end
-      end
-      r[best_pos] = 1'b1;
-    end
-    split_heaviest = r;
-  endfunction
-
-  function automatic logic [63:0] cut_mask(input logic [MaxSeg*SegWW-1:0] w,
-                                           input int unsigned nseg, input int unsigned stages);
-    int unsigned lo, hi, mid, tot;
-    logic [63:0] m;
-    tot = 0;
-    for (int unsigned i = 0; i < MaxSeg; i++) if (i < nseg) tot += 32'(w[i*SegWW+:SegWW]);
-    // smallest feasible depth bound in [1, tot]
-    lo = 1;
-    hi = tot;
-    while (lo < hi) begin
-      mid = (lo + hi) / 2;
-      m = pack_cuts(w, nseg, stages, mid);
-      if (m[63]) lo = mid + 1;
-      else hi = mid;
-    end
-    m = pack_cuts(w, nseg, stages, lo);
-    // Registers left over (the bound cannot improve further): split the heaviest stage that
-    // still has an unused cut, at its most balanced position, while registers remain.
-    for (int unsigned extra = popcount(m); extra < stages; extra++) m = split_heaviest(w, nseg, m);
-    cut_mask = (stages == 0) ? 64'd0 : m;
-  endfunction
-
-
-  // Cut mask actually used by a unit: the automatic one unless CutSel overrides it.
-  function automatic logic [63:0] sel_mask(input logic [63:0] cut_sel,
-                                           input logic [MaxSeg*SegWW-1:0] w,
-                                           input int unsigned nseg, input int unsigned stages);
-    sel_mask = cut_sel[63] ? cut_mask(w, nseg, stages) : cut_sel;
-  endfunction
-
-  // Registers that go at the output: Stages minus the cuts used inside.
-  function automatic int unsigned out_regs(input logic [63:0] mask, input int unsigned stages);
-    out_regs = (stages > popcount(mask)) ? stages - popcount(mask) : 0;
-  endfunction
-
-  // Useful maximum of Stages for a chain of nseg segments: one register at each of its nseg-1
-  // cut positions (every unit's localparam MaxUsefulStages).
-  function automatic int unsigned max_useful(input int unsigned nseg);
-    max_useful = (nseg > 0) ? nseg - 1 : 0;
-  endfunction
-
-  // Registers that no cut position is left for: Stages - MaxUsefulStages beyond the maximum,
-  // else 0. With automatic placement this equals out_regs(cut_mask(..), Stages) (cut_mask fills
-  // every cut position before the output gets a register; the units check it).
-  function automatic int unsigned extra_regs(input int unsigned stages, input int unsigned max_u);
-    extra_regs = (stages > max_u) ? stages - max_u : 0;
+  function automatic logic [ru_pipe_pkg::MaxKind*ru_pipe_pkg::WW-1:0] op_wts(
+      input int unsigned exp_w, input int unsigned frac_w, input int unsigned sub);
+    logic [ru_pipe_pkg::MaxKind*ru_pipe_pkg::WW-1:0] r;
+    r = '0;
+    r[32'(KAdd)*ru_pipe_pkg::WW+:ru_pipe_pkg::WW] = add_seg_w(exp_w, frac_w, sub);
+    r[32'(KMul)*ru_pipe_pkg::WW+:ru_pipe_pkg::WW] = mul_seg_w(exp_w, frac_w, sub);
+    r[32'(KDiv)*ru_pipe_pkg::WW+:ru_pipe_pkg::WW] = div_seg_w(exp_w, frac_w, sub);
+    r[32'(KCmp)*ru_pipe_pkg::WW+:ru_pipe_pkg::WW] = cmp_seg_w(exp_w, frac_w);
+    op_wts = r;
   endfunction
 
 endpackage

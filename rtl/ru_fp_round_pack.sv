@@ -84,7 +84,7 @@ module ru_fp_round_pack #(
   logic                    c_sign, c_tiny, c_sticky;
   logic [SigW-1:0]         c_sig;
   logic signed [ExpIW-1:0] c_exp;
-  ru_fp_pipe #(.Width(AuxW + 3 + SigW + ExpIW), .Depth(Cut)) u_cut (
+  ru_pipe #(.Width(AuxW + 3 + SigW + ExpIW), .Depth(Cut)) u_cut (
     .clk_i, .rst_ni,
     .valid_i,
     .data_i ({aux_i, sign_i, tiny, sticky_s, sig_s, exp_pack}),

@@ -49,25 +49,32 @@ module ru_noise #(
   localparam int GradShift = 16 - B;
   localparam int GradRnd   = (GradShift > 0) ? (1 << (GradShift - 1)) : 0;
 
-  // Cut points (registers) by Stages. Bit k-1 = register after level k:
+  // Pipelining (ru_pipe_pkg, the mechanism of every unit). The seven levels below are the
+  // segments of the chain; their weights are the logic depths per level measured with Yosys at
+  // the default widths (docs/NOISE.md, "level depths"; used for every width). The output register
+  // (after level 7) is the first one placed, the others go where ru_pipe_pkg::cut_mask puts
+  // them (cut_mask_reg_out). Bit k-1 of Cuts = register after level k:
   //   1 split + hash lookup + squares   2 xor + gradient lookup + distance, t
   //   3 t^2 + dot products              4 t^4
   //   5 t^5 + kernel weight             6 w * dot
   //   7 sum, scaling, saturation (output)
-  // Stages > 7 adds Stages - 7 further output registers. The placement balances the logic
-  // depth per stage measured with Yosys (docs/NOISE.md, "Pipelining").
-  localparam logic [6:0] Cuts =
-      (Stages == 0) ? 7'b0000000 :
-      (Stages == 1) ? 7'b1000000 :
-      (Stages == 2) ? 7'b1001000 :
-      (Stages == 3) ? 7'b1010100 :
-      (Stages == 4) ? 7'b1011010 :
-      (Stages == 5) ? 7'b1011101 :
-      (Stages == 6) ? 7'b1111101 : 7'b1111111;
+  // Stages 1..7 give 7 | 4,7 | 3,5,7 | 2,4,5,7 | 1,3,4,5,7 | 1,3,4,5,6,7 | all; Stages > 7 adds
+  // Stages - 7 further output registers.
+  localparam int unsigned NLevels = 7;
+  localparam logic [ru_pipe_pkg::WW-1:0] LevelDepth = {{(ru_pipe_pkg::WW - 8 * NLevels){1'b0}},
+      8'd17, 8'd27, 8'd31, 8'd24, 8'd21, 8'd22, 8'd23};  // level 7 .. level 1
+  localparam logic [ru_pipe_pkg::MaxSeg:0] PipeCuts =
+      ru_pipe_pkg::cut_mask_reg_out(LevelDepth, NLevels, Stages);
+  localparam logic [NLevels-1:0] Cuts = PipeCuts[NLevels-1:0];
   // Useful maximum of Stages (every cut point registered) and the registers placed at the
   // output beyond it (Stages - MaxUsefulStages, else 0).
-  localparam int unsigned MaxUsefulStages = $bits(Cuts);
-  localparam int unsigned OutRegs = (Stages > MaxUsefulStages) ? Stages - MaxUsefulStages : 0;
+  localparam int unsigned MaxUsefulStages = ru_pipe_pkg::max_useful(NLevels) + 1;
+  localparam int unsigned OutRegs = ru_pipe_pkg::out_regs(PipeCuts, Stages);
+  if (OutRegs != ru_pipe_pkg::extra_regs(Stages, MaxUsefulStages)) begin : gen_out_check
+    $error("ru_noise: internal error: %0d output registers at Stages %0d", OutRegs, Stages);
+  end
+  logic [ru_pipe_pkg::MaxSeg-NLevels:0] unused_pipe_cuts;
+  assign unused_pipe_cuts = PipeCuts[ru_pipe_pkg::MaxSeg:NLevels];
 
   // ru_noise_gq: one stored Q1.16 gradient component narrowed to GradW bits (a constant
   // function: its arguments in ru_noise_grad are literals, so synthesis folds it).
@@ -131,7 +138,7 @@ module ru_noise #(
 
   assign l1_d = {a_sq, a_hash, a_fr};
 
-  ru_noise_cut #(.Width(L1W), .Reg(Cuts[0])) u_cut1 (
+  ru_pipe #(.Width(L1W), .Depth(Cuts[0] ? 1 : 0)) u_cut1 (
     .clk_i, .rst_ni, .valid_i(in_valid_i), .data_i(l1_d), .valid_o(l1_valid_q), .data_o(l1_q));
 
   // ------------------------------------------------------------------------------------------
@@ -159,7 +166,7 @@ module ru_noise #(
 
   assign l2_d = {b_t, b_g, b_fr};
 
-  ru_noise_cut #(.Width(L2W), .Reg(Cuts[1])) u_cut2 (
+  ru_pipe #(.Width(L2W), .Depth(Cuts[1] ? 1 : 0)) u_cut2 (
     .clk_i, .rst_ni, .valid_i(l1_valid_q), .data_i(l2_d), .valid_o(l2_valid_q), .data_o(l2_q));
 
   // ------------------------------------------------------------------------------------------
@@ -197,7 +204,7 @@ module ru_noise #(
 
   assign l3_d = {c_dot, c_t2, c_t};
 
-  ru_noise_cut #(.Width(L3W), .Reg(Cuts[2])) u_cut3 (
+  ru_pipe #(.Width(L3W), .Depth(Cuts[2] ? 1 : 0)) u_cut3 (
     .clk_i, .rst_ni, .valid_i(l2_valid_q), .data_i(l3_d), .valid_o(l3_valid_q), .data_o(l3_q));
 
   // ------------------------------------------------------------------------------------------
@@ -220,7 +227,7 @@ module ru_noise #(
 
   assign l4_d = {d_dot, d_t4, d_t};
 
-  ru_noise_cut #(.Width(L4W), .Reg(Cuts[3])) u_cut4 (
+  ru_pipe #(.Width(L4W), .Depth(Cuts[3] ? 1 : 0)) u_cut4 (
     .clk_i, .rst_ni, .valid_i(l3_valid_q), .data_i(l4_d), .valid_o(l4_valid_q), .data_o(l4_q));
 
   // ------------------------------------------------------------------------------------------
@@ -248,7 +255,7 @@ module ru_noise #(
 
   assign l5_d = {e_dot, e_w};
 
-  ru_noise_cut #(.Width(L5W), .Reg(Cuts[4])) u_cut5 (
+  ru_pipe #(.Width(L5W), .Depth(Cuts[4] ? 1 : 0)) u_cut5 (
     .clk_i, .rst_ni, .valid_i(l4_valid_q), .data_i(l5_d), .valid_o(l5_valid_q), .data_o(l5_q));
 
   // ------------------------------------------------------------------------------------------
@@ -271,7 +278,7 @@ module ru_noise #(
     assign l6_d[c*CW+:CW] = prod;
   end
 
-  ru_noise_cut #(.Width(L6W), .Reg(Cuts[5])) u_cut6 (
+  ru_pipe #(.Width(L6W), .Depth(Cuts[5] ? 1 : 0)) u_cut6 (
     .clk_i, .rst_ni, .valid_i(l5_valid_q), .data_i(l6_d), .valid_o(l6_valid_q), .data_o(l6_q));
 
   // ------------------------------------------------------------------------------------------
@@ -302,22 +309,12 @@ module ru_noise #(
   assign g_ovf = !((&g_v[VW-1:OutW-1]) || !(|g_v[VW-1:OutW-1]));
   assign l7_d  = g_ovf ? {g_v[VW-1], {(OutW - 1){~g_v[VW-1]}}} : g_v[OutW-1:0];
 
-  ru_noise_cut #(.Width(OutW), .Reg(Cuts[6])) u_cut7 (
+  ru_pipe #(.Width(OutW), .Depth(Cuts[6] ? 1 : 0)) u_cut7 (
     .clk_i, .rst_ni, .valid_i(l6_valid_q), .data_i(l7_d), .valid_o(l7_valid_q), .data_o(l7_q));
 
   // ------------------------------------------------------------------------------------------
   // Output registers for Stages > MaxUsefulStages.
-  logic [OutRegs:0]          x_valid;
-  logic [(OutRegs+1)*OutW-1:0] x_data;
-  assign x_valid[0]       = l7_valid_q;
-  assign x_data[0+:OutW]  = l7_q;
-  for (genvar s = 0; s < OutRegs; s++) begin : g_extra
-    ru_noise_cut #(.Width(OutW), .Reg(1'b1)) u_cut (
-      .clk_i, .rst_ni, .valid_i(x_valid[s]), .data_i(x_data[s*OutW+:OutW]),
-      .valid_o(x_valid[s+1]), .data_o(x_data[(s+1)*OutW+:OutW]));
-  end
-
-  assign out_valid_o = x_valid[OutRegs];
-  assign value_o     = x_data[OutRegs*OutW+:OutW];
+  ru_pipe #(.Width(OutW), .Depth(OutRegs)) u_out (
+    .clk_i, .rst_ni, .valid_i(l7_valid_q), .data_i(l7_q), .valid_o(out_valid_o), .data_o(value_o));
 
 endmodule

@@ -10,7 +10,7 @@
 //              (every input, hit or not; a NaN slab bound (0*INF: the origin on a slab plane
 //              of a ray parallel to it) is ignored by minNum/maxNum).
 // Parameters: ExpW, FracW, Subnormals, Round (the format); Stages (latency, registers placed
-// by ru_ray_tri_pkg on the chain add - mul - cmp - cmp - cmp); OptConservative:
+// by ru_pipe_pkg on the chain add - mul - cmp - cmp - cmp); OptConservative:
 //   0  plain:  tn_k = (near_k - o_k) * inv_k, tf_k = (far_k - o_k) * inv_k, rounded with Round;
 //   1  conservative (never misses a box the exact slab test hits):
 //        dn_k = (near_k - o_k) rounded RUP if inv_k < 0 else RDN,  tn_k = RDN(dn_k * inv_k)
@@ -71,37 +71,40 @@ module ru_ray_box #(
   localparam logic [W-1:0] PosInf = {1'b0, {ExpW{1'b1}}, {FracW{1'b0}}};
   localparam logic [W-1:0] NegInf = {1'b1, {ExpW{1'b1}}, {FracW{1'b0}}};
 
-  // ---- register placement (ru_ray_tri_pkg) -----------------------------------------------
+  // ---- register placement (ru_pipe_pkg) -----------------------------------------------
   localparam int unsigned NLev = 5;
-  localparam logic [63:0] Kinds = {44'd0, ru_ray_tri_pkg::KCmp, ru_ray_tri_pkg::KCmp,
-      ru_ray_tri_pkg::KCmp, ru_ray_tri_pkg::KMul, ru_ray_tri_pkg::KAdd};
-  localparam logic [31:0] NSegs = {8'(ru_fp_pkg::cmp_nseg()), 8'(ru_fp_pkg::div_nseg(FracW)),
-                                   8'(ru_fp_pkg::mul_nseg(FracW)), 8'(ru_fp_pkg::add_nseg())};
-  localparam logic [4*ru_ray_tri_pkg::FpWW-1:0] Wts = {
-      ru_fp_pkg::cmp_seg_w(ExpW, FracW), ru_fp_pkg::div_seg_w(ExpW, FracW, Subnormals),
-      ru_fp_pkg::mul_seg_w(ExpW, FracW, Subnormals), ru_fp_pkg::add_seg_w(ExpW, FracW, Subnormals)};
-  localparam logic [255:0] Cuts = ru_ray_tri_pkg::unit_cuts(Kinds, NLev, NSegs, Wts, Stages);
+  localparam logic [4*ru_pipe_pkg::MaxLev-1:0] Kinds = {44'd0, ru_fp_pkg::KCmp, ru_fp_pkg::KCmp,
+      ru_fp_pkg::KCmp, ru_fp_pkg::KMul, ru_fp_pkg::KAdd};
+  localparam logic [8*ru_pipe_pkg::MaxKind-1:0] NSegs = ru_fp_pkg::op_nsegs(FracW);
+  localparam logic [ru_pipe_pkg::MaxSeg:0] Cuts = ru_pipe_pkg::unit_cuts(
+      Kinds, NLev, NSegs, ru_fp_pkg::op_wts(ExpW, FracW, Subnormals), Stages);
+  localparam logic [ru_pipe_pkg::MaxLev*ru_pipe_pkg::MW-1:0] LevCuts =
+      ru_pipe_pkg::level_cuts_all(Cuts, Kinds, NLev, NSegs);
+  localparam logic [ru_pipe_pkg::MaxLev*32-1:0] LevStages =
+      ru_pipe_pkg::level_stages_all(Cuts, Kinds, NLev, NSegs, Stages);
   // Useful maximum of Stages (a register at every cut position of the level chain) and the
   // registers placed at the output of the last level (those beyond MaxUsefulStages).
-  localparam int unsigned MaxUsefulStages = ru_ray_tri_pkg::unit_max_useful(Kinds, NLev, NSegs);
-  localparam int unsigned OutRegs = ru_ray_tri_pkg::unit_out_regs(Cuts, Stages);
-  if (OutRegs != ((Stages > MaxUsefulStages) ? Stages - MaxUsefulStages : 0)) begin : gen_out_check
+  localparam int unsigned MaxUsefulStages = ru_pipe_pkg::unit_max_useful(Kinds, NLev, NSegs);
+  localparam int unsigned OutRegs = ru_pipe_pkg::out_regs(Cuts, Stages);
+  if (OutRegs != ru_pipe_pkg::extra_regs(Stages, MaxUsefulStages)) begin : gen_out_check
     $error("ru_ray_box: internal error: %0d output registers at Stages %0d", OutRegs, Stages);
   end
-  localparam logic [63:0] C0 = ru_ray_tri_pkg::level_cuts(Cuts, Kinds, NSegs, 0);
-  localparam logic [63:0] C1 = ru_ray_tri_pkg::level_cuts(Cuts, Kinds, NSegs, 1);
-  localparam logic [63:0] C2 = ru_ray_tri_pkg::level_cuts(Cuts, Kinds, NSegs, 2);
-  localparam logic [63:0] C3 = ru_ray_tri_pkg::level_cuts(Cuts, Kinds, NSegs, 3);
-  localparam logic [63:0] C4 = ru_ray_tri_pkg::level_cuts(Cuts, Kinds, NSegs, 4);
-  localparam int unsigned S0 = ru_ray_tri_pkg::level_stages(Cuts, Kinds, NLev, NSegs, 0, Stages);
-  localparam int unsigned S1 = ru_ray_tri_pkg::level_stages(Cuts, Kinds, NLev, NSegs, 1, Stages);
-  localparam int unsigned S2 = ru_ray_tri_pkg::level_stages(Cuts, Kinds, NLev, NSegs, 2, Stages);
-  localparam int unsigned S3 = ru_ray_tri_pkg::level_stages(Cuts, Kinds, NLev, NSegs, 3, Stages);
-  localparam int unsigned S4 = ru_ray_tri_pkg::level_stages(Cuts, Kinds, NLev, NSegs, 4, Stages);
+  // level k: CutSel lcut(k), latency lat(k); span(a, b) = latency of levels a .. b-1
+  function automatic logic [ru_pipe_pkg::MaxSeg:0] lcut(input int unsigned k);
+    lcut = LevCuts[k*ru_pipe_pkg::MW+:ru_pipe_pkg::MW];
+  endfunction
+  function automatic int unsigned lat(input int unsigned k);
+    lat = LevStages[k*32+:32];
+  endfunction
+  function automatic int unsigned span(input int unsigned first, input int unsigned last);
+    span = ru_pipe_pkg::level_span(LevStages, first, last);
+  endfunction
+  // data-only delay lines (ru_pipe; the level instances carry the valid bits)
+  logic [3:0] unused_dly_valid;
+
   // The unit's latency: Stages by construction (checked here at elaboration).
-  localparam int unsigned Latency = S0 + S1 + S2 + S3 + S4;
-  if (Latency != Stages) begin : gen_latency_check
-    $error("ru_ray_box: internal error: latency %0d != Stages %0d", Latency, Stages);
+  if (span(0, NLev) != Stages) begin : gen_latency_check
+    $error("ru_ray_box: internal error: latency %0d != Stages %0d", span(0, NLev), Stages);
   end
 
   function automatic logic f_nan(input logic [W-2:0] x);  // magnitude bits
@@ -150,19 +153,19 @@ module ru_ray_box #(
   logic [14:0]   dn_fl, df_fl;
   logic [5:0]    v0;
   for (genvar k = 0; k < 3; k++) begin : gen_sub
-    ru_fp_add #(.ExpW(ExpW), .FracW(FracW), .Stages(S0), .Subnormals(Subnormals),
-                .Round(RoundN), .CutSel(C0)) u_sub_n (
+    ru_fp_add #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(0)), .Subnormals(Subnormals),
+                .Round(RoundN), .CutSel(lcut(0))) u_sub_n (
       .clk_i, .rst_ni, .in_valid_i, .a_i(xn[k*W+:W]), .b_i(yn[k*W+:W]), .op_i(1'b1),
       .out_valid_o(v0[2*k]), .y_o(dn_r[k*W+:W]), .flags_o(dn_fl[k*5+:5]));
-    ru_fp_add #(.ExpW(ExpW), .FracW(FracW), .Stages(S0), .Subnormals(Subnormals),
-                .Round(RoundF), .CutSel(C0)) u_sub_f (
+    ru_fp_add #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(0)), .Subnormals(Subnormals),
+                .Round(RoundF), .CutSel(lcut(0))) u_sub_f (
       .clk_i, .rst_ni, .in_valid_i, .a_i(xf[k*W+:W]), .b_i(yf[k*W+:W]), .op_i(1'b1),
       .out_valid_o(v0[2*k+1]), .y_o(df_r[k*W+:W]), .flags_o(df_fl[k*5+:5]));
   end
   logic [V3-1:0] inv1;
   logic [2:0]    neg1;
-  ru_ray_tri_delay #(.Width(V3 + 3), .Depth(S0)) u_wait0 (
-    .clk_i, .data_i({rdir_i, neg0}), .data_o({inv1, neg1}));
+  ru_pipe #(.Width(V3 + 3), .Depth(lat(0))) u_wait0 (
+    .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[0]), .data_i({rdir_i, neg0}), .data_o({inv1, neg1}));
 
   // ---- L1: slab bounds --------------------------------------------------------------------------
   logic [V3-1:0] dn, df;
@@ -185,18 +188,18 @@ module ru_ray_box #(
   logic [14:0]   tn_fl, tf_fl;
   logic [5:0]    v1;
   for (genvar k = 0; k < 3; k++) begin : gen_mul
-    ru_fp_mul #(.ExpW(ExpW), .FracW(FracW), .Stages(S1), .Subnormals(Subnormals),
-                .Round(RoundN), .CutSel(C1)) u_mul_n (
+    ru_fp_mul #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(1)), .Subnormals(Subnormals),
+                .Round(RoundN), .CutSel(lcut(1))) u_mul_n (
       .clk_i, .rst_ni, .in_valid_i(v0[0]), .a_i(dn[k*W+:W]), .b_i(inv1[k*W+:W]),
       .out_valid_o(v1[2*k]), .y_o(tn_r[k*W+:W]), .flags_o(tn_fl[k*5+:5]));
-    ru_fp_mul #(.ExpW(ExpW), .FracW(FracW), .Stages(S1), .Subnormals(Subnormals),
-                .Round(RoundF), .CutSel(C1)) u_mul_f (
+    ru_fp_mul #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(1)), .Subnormals(Subnormals),
+                .Round(RoundF), .CutSel(lcut(1))) u_mul_f (
       .clk_i, .rst_ni, .in_valid_i(v0[0]), .a_i(df[k*W+:W]), .b_i(inv1[k*W+:W]),
       .out_valid_o(v1[2*k+1]), .y_o(tf_r[k*W+:W]), .flags_o(tf_fl[k*5+:5]));
   end
   logic [W-1:0] tmin2, tmax2;
-  ru_ray_tri_delay #(.Width(2 * W), .Depth(S0 + S1)) u_wait01 (
-    .clk_i, .data_i({tmin_i, tmax_i}), .data_o({tmin2, tmax2}));
+  ru_pipe #(.Width(2 * W), .Depth(span(0, 2))) u_wait01 (
+    .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[1]), .data_i({tmin_i, tmax_i}), .data_o({tmin2, tmax2}));
 
   logic [V3-1:0] tn, tf;
   always_comb begin
@@ -221,7 +224,7 @@ module ru_ray_box #(
   assign cb = {tmax2, tf[W+:W], tmin2, tn[W+:W]};
   assign cop = {3'd3, 3'd3, 3'd4, 3'd4};  // max, max, min, min
   for (genvar i = 0; i < 4; i++) begin : gen_c2
-    ru_fp_cmp #(.ExpW(ExpW), .FracW(FracW), .Stages(S2), .Subnormals(Subnormals), .CutSel(C2))
+    ru_fp_cmp #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(2)), .Subnormals(Subnormals), .CutSel(lcut(2)))
         u_cmp (
       .clk_i, .rst_ni, .in_valid_i(v1[0]), .a_i(ca[i*W+:W]), .b_i(cb[i*W+:W]),
       .op_i(cop[i*3+:3]), .out_valid_o(v2[i]), .y_o(cy[i*W+:W]),
@@ -231,11 +234,11 @@ module ru_ray_box #(
   logic [W-1:0] t_enter, t_exit;
   logic [1:0]   v3;
   logic [9:0]   unused_c3_flags;
-  ru_fp_cmp #(.ExpW(ExpW), .FracW(FracW), .Stages(S3), .Subnormals(Subnormals), .CutSel(C3))
+  ru_fp_cmp #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(3)), .Subnormals(Subnormals), .CutSel(lcut(3)))
       u_enter (
     .clk_i, .rst_ni, .in_valid_i(v2[0]), .a_i(cy[0+:W]), .b_i(cy[W+:W]), .op_i(3'd4),
     .out_valid_o(v3[0]), .y_o(t_enter), .flags_o(unused_c3_flags[0+:5]));
-  ru_fp_cmp #(.ExpW(ExpW), .FracW(FracW), .Stages(S3), .Subnormals(Subnormals), .CutSel(C3))
+  ru_fp_cmp #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(3)), .Subnormals(Subnormals), .CutSel(lcut(3)))
       u_exit (
     .clk_i, .rst_ni, .in_valid_i(v2[0]), .a_i(cy[2*W+:W]), .b_i(cy[3*W+:W]), .op_i(3'd3),
     .out_valid_o(v3[1]), .y_o(t_exit), .flags_o(unused_c3_flags[5+:5]));
@@ -243,17 +246,17 @@ module ru_ray_box #(
   // ---- L4: t_enter <= t_exit, hit -------------------------------------------------------------
   logic [W-1:0] le_y;
   logic [4:0]   unused_le_flags;
-  ru_fp_cmp #(.ExpW(ExpW), .FracW(FracW), .Stages(S4), .Subnormals(Subnormals), .CutSel(C4))
+  ru_fp_cmp #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(4)), .Subnormals(Subnormals), .CutSel(lcut(4)))
       u_le (
     .clk_i, .rst_ni, .in_valid_i(v3[0]), .a_i(t_enter), .b_i(t_exit), .op_i(3'd1),
     .out_valid_o, .y_o(le_y), .flags_o(unused_le_flags));
 
   logic any_nan3, any_nan4, inf_ok3, inf_ok4;
-  ru_ray_tri_delay #(.Width(1), .Depth(S0 + S1 + S2 + S3)) u_wait_nan (
-    .clk_i, .data_i(any_nan0), .data_o(any_nan3));
+  ru_pipe #(.Width(1), .Depth(span(0, 4))) u_wait_nan (
+    .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[2]), .data_i(any_nan0), .data_o(any_nan3));
   assign inf_ok3 = (t_enter != PosInf) && (t_exit != NegInf);
-  ru_ray_tri_delay #(.Width(2 + 2 * W), .Depth(S4)) u_wait4 (
-    .clk_i, .data_i({any_nan3, inf_ok3, t_enter, t_exit}),
+  ru_pipe #(.Width(2 + 2 * W), .Depth(lat(4))) u_wait4 (
+    .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[3]), .data_i({any_nan3, inf_ok3, t_enter, t_exit}),
     .data_o({any_nan4, inf_ok4, t_enter_o, t_exit_o}));
   assign hit_o = le_y[0] & inf_ok4 & ~any_nan4;
 

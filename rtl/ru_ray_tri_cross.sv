@@ -2,16 +2,16 @@
 //   y.x = u.y*v.z - u.z*v.y;  y.y = u.z*v.x - u.x*v.z;  y.z = u.x*v.y - u.y*v.x
 // (each product rounded, left product minus right product): six ru_fp_mul in one pipeline
 // level (MulStages, MulCuts), then three ru_fp_add subtracters in the next (SubStages,
-// SubCuts); see ru_ray_tri_pkg. Vectors packed {z, y, x}. Latency = MulStages + SubStages.
+// SubCuts); see ru_pipe_pkg. Vectors packed {z, y, x}. Latency = MulStages + SubStages.
 module ru_ray_tri_cross #(
   parameter int unsigned ExpW = 8,
   parameter int unsigned FracW = 23,
   parameter int unsigned Subnormals = 1,
   parameter int unsigned Round = 0,
   parameter int unsigned MulStages = 0,
-  parameter logic [63:0] MulCuts = 64'h8000_0000_0000_0000,
+  parameter logic [ru_pipe_pkg::MaxSeg:0] MulCuts = ru_pipe_pkg::AutoCuts,
   parameter int unsigned SubStages = 0,
-  parameter logic [63:0] SubCuts = 64'h8000_0000_0000_0000
+  parameter logic [ru_pipe_pkg::MaxSeg:0] SubCuts = ru_pipe_pkg::AutoCuts
 ) (
   input  logic                        clk_i,
   input  logic                        rst_ni,

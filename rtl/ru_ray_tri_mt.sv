@@ -8,7 +8,7 @@
 //   why_o   ru::units::TriMiss: 0 hit, 1 outside (beta/gamma/sum), 3 |V| < eps, 4 interval
 //   t_o = Va * (1/V), beta_o = V1 * (1/V), gamma_o = V2 * (1/V);
 //   vol_o [5W] {V2, V1, +0 (V0 is not computed), Va, V} (zero unless OptVolOut = 1).
-// Parameters: ExpW, FracW, Subnormals, Round, Stages (latency; ru_ray_tri_pkg places the
+// Parameters: ExpW, FracW, Subnormals, Round, Stages (latency; ru_pipe_pkg places the
 // registers), OptEpsTest + EpsBits (|V| < eps misses), OptVolOut. One test per cycle,
 // out_valid_o = in_valid_i delayed by Stages cycles.
 //
@@ -59,109 +59,102 @@ module ru_ray_tri_mt #(
   localparam logic [W-1:0] Eps = W'(EpsBits);
   localparam logic [W-1:0] One = W'((1 << (ExpW - 1)) - 1) << FracW;
 
-  // ---- register placement (ru_ray_tri_pkg) -----------------------------------------------
+  // ---- register placement (ru_pipe_pkg) -----------------------------------------------
   localparam int unsigned NLev = 10;
   // level kinds, level 0 in the low nibble: add mul add mul add add div mul add cmp
-  localparam logic [63:0] Kinds = {24'd0, ru_ray_tri_pkg::KCmp, ru_ray_tri_pkg::KAdd,
-      ru_ray_tri_pkg::KMul, ru_ray_tri_pkg::KDiv, ru_ray_tri_pkg::KAdd, ru_ray_tri_pkg::KAdd,
-      ru_ray_tri_pkg::KMul, ru_ray_tri_pkg::KAdd, ru_ray_tri_pkg::KMul, ru_ray_tri_pkg::KAdd};
-  localparam logic [31:0] NSegs = {8'(ru_fp_pkg::cmp_nseg()), 8'(ru_fp_pkg::div_nseg(FracW)),
-                                   8'(ru_fp_pkg::mul_nseg(FracW)), 8'(ru_fp_pkg::add_nseg())};
-  localparam logic [4*ru_ray_tri_pkg::FpWW-1:0] Wts = {
-      ru_fp_pkg::cmp_seg_w(ExpW, FracW), ru_fp_pkg::div_seg_w(ExpW, FracW, Subnormals),
-      ru_fp_pkg::mul_seg_w(ExpW, FracW, Subnormals), ru_fp_pkg::add_seg_w(ExpW, FracW, Subnormals)};
-  localparam logic [255:0] Cuts = ru_ray_tri_pkg::unit_cuts(Kinds, NLev, NSegs, Wts, Stages);
+  localparam logic [4*ru_pipe_pkg::MaxLev-1:0] Kinds = {24'd0, ru_fp_pkg::KCmp, ru_fp_pkg::KAdd,
+      ru_fp_pkg::KMul, ru_fp_pkg::KDiv, ru_fp_pkg::KAdd, ru_fp_pkg::KAdd,
+      ru_fp_pkg::KMul, ru_fp_pkg::KAdd, ru_fp_pkg::KMul, ru_fp_pkg::KAdd};
+  localparam logic [8*ru_pipe_pkg::MaxKind-1:0] NSegs = ru_fp_pkg::op_nsegs(FracW);
+  localparam logic [ru_pipe_pkg::MaxSeg:0] Cuts = ru_pipe_pkg::unit_cuts(
+      Kinds, NLev, NSegs, ru_fp_pkg::op_wts(ExpW, FracW, Subnormals), Stages);
+  localparam logic [ru_pipe_pkg::MaxLev*ru_pipe_pkg::MW-1:0] LevCuts =
+      ru_pipe_pkg::level_cuts_all(Cuts, Kinds, NLev, NSegs);
+  localparam logic [ru_pipe_pkg::MaxLev*32-1:0] LevStages =
+      ru_pipe_pkg::level_stages_all(Cuts, Kinds, NLev, NSegs, Stages);
   // Useful maximum of Stages (a register at every cut position of the level chain) and the
   // registers placed at the output of the last level (those beyond MaxUsefulStages).
-  localparam int unsigned MaxUsefulStages = ru_ray_tri_pkg::unit_max_useful(Kinds, NLev, NSegs);
-  localparam int unsigned OutRegs = ru_ray_tri_pkg::unit_out_regs(Cuts, Stages);
-  if (OutRegs != ((Stages > MaxUsefulStages) ? Stages - MaxUsefulStages : 0)) begin : gen_out_check
+  localparam int unsigned MaxUsefulStages = ru_pipe_pkg::unit_max_useful(Kinds, NLev, NSegs);
+  localparam int unsigned OutRegs = ru_pipe_pkg::out_regs(Cuts, Stages);
+  if (OutRegs != ru_pipe_pkg::extra_regs(Stages, MaxUsefulStages)) begin : gen_out_check
     $error("ru_ray_tri_mt: internal error: %0d output registers at Stages %0d", OutRegs, Stages);
   end
-  localparam logic [63:0] C0 = ru_ray_tri_pkg::level_cuts(Cuts, Kinds, NSegs, 0);
-  localparam logic [63:0] C1 = ru_ray_tri_pkg::level_cuts(Cuts, Kinds, NSegs, 1);
-  localparam logic [63:0] C2 = ru_ray_tri_pkg::level_cuts(Cuts, Kinds, NSegs, 2);
-  localparam logic [63:0] C3 = ru_ray_tri_pkg::level_cuts(Cuts, Kinds, NSegs, 3);
-  localparam logic [63:0] C4 = ru_ray_tri_pkg::level_cuts(Cuts, Kinds, NSegs, 4);
-  localparam logic [63:0] C5 = ru_ray_tri_pkg::level_cuts(Cuts, Kinds, NSegs, 5);
-  localparam logic [63:0] C6 = ru_ray_tri_pkg::level_cuts(Cuts, Kinds, NSegs, 6);
-  localparam logic [63:0] C7 = ru_ray_tri_pkg::level_cuts(Cuts, Kinds, NSegs, 7);
-  localparam logic [63:0] C8 = ru_ray_tri_pkg::level_cuts(Cuts, Kinds, NSegs, 8);
-  localparam logic [63:0] C9 = ru_ray_tri_pkg::level_cuts(Cuts, Kinds, NSegs, 9);
-  localparam int unsigned S0 = ru_ray_tri_pkg::level_stages(Cuts, Kinds, NLev, NSegs, 0, Stages);
-  localparam int unsigned S1 = ru_ray_tri_pkg::level_stages(Cuts, Kinds, NLev, NSegs, 1, Stages);
-  localparam int unsigned S2 = ru_ray_tri_pkg::level_stages(Cuts, Kinds, NLev, NSegs, 2, Stages);
-  localparam int unsigned S3 = ru_ray_tri_pkg::level_stages(Cuts, Kinds, NLev, NSegs, 3, Stages);
-  localparam int unsigned S4 = ru_ray_tri_pkg::level_stages(Cuts, Kinds, NLev, NSegs, 4, Stages);
-  localparam int unsigned S5 = ru_ray_tri_pkg::level_stages(Cuts, Kinds, NLev, NSegs, 5, Stages);
-  localparam int unsigned S6 = ru_ray_tri_pkg::level_stages(Cuts, Kinds, NLev, NSegs, 6, Stages);
-  localparam int unsigned S7 = ru_ray_tri_pkg::level_stages(Cuts, Kinds, NLev, NSegs, 7, Stages);
-  localparam int unsigned S8 = ru_ray_tri_pkg::level_stages(Cuts, Kinds, NLev, NSegs, 8, Stages);
-  localparam int unsigned S9 = ru_ray_tri_pkg::level_stages(Cuts, Kinds, NLev, NSegs, 9, Stages);
+  // level k: CutSel lcut(k), latency lat(k); span(a, b) = latency of levels a .. b-1
+  function automatic logic [ru_pipe_pkg::MaxSeg:0] lcut(input int unsigned k);
+    lcut = LevCuts[k*ru_pipe_pkg::MW+:ru_pipe_pkg::MW];
+  endfunction
+  function automatic int unsigned lat(input int unsigned k);
+    lat = LevStages[k*32+:32];
+  endfunction
+  function automatic int unsigned span(input int unsigned first, input int unsigned last);
+    span = ru_pipe_pkg::level_span(LevStages, first, last);
+  endfunction
+  // data-only delay lines (ru_pipe; the level instances carry the valid bits)
+  logic [13:0] unused_dly_valid;
+
   // The unit's latency: Stages by construction (checked here at elaboration).
-  localparam int unsigned Latency = S0 + S1 + S2 + S3 + S4 + S5 + S6 + S7 + S8 + S9;
-  if (Latency != Stages) begin : gen_latency_check
-    $error("ru_ray_tri_mt: internal error: latency %0d != Stages %0d", Latency, Stages);
+  if (span(0, NLev) != Stages) begin : gen_latency_check
+    $error("ru_ray_tri_mt: internal error: latency %0d != Stages %0d", span(0, NLev), Stages);
   end
 
   // ---- L0: edges and a - p0 ----------------------------------------------------------------
   logic [V3-1:0] e1, e2, sv;
   logic [2:0]    v0;
   ru_ray_tri_vsub #(.ExpW(ExpW), .FracW(FracW), .Subnormals(Subnormals), .Round(Round),
-                    .Stages(S0), .CutSel(C0)) u_e1 (
+                    .Stages(lat(0)), .CutSel(lcut(0))) u_e1 (
     .clk_i, .rst_ni, .valid_i(in_valid_i), .u_i(p1_i), .v_i(p0_i), .valid_o(v0[0]), .y_o(e1));
   ru_ray_tri_vsub #(.ExpW(ExpW), .FracW(FracW), .Subnormals(Subnormals), .Round(Round),
-                    .Stages(S0), .CutSel(C0)) u_e2 (
+                    .Stages(lat(0)), .CutSel(lcut(0))) u_e2 (
     .clk_i, .rst_ni, .valid_i(in_valid_i), .u_i(p2_i), .v_i(p0_i), .valid_o(v0[1]), .y_o(e2));
   ru_ray_tri_vsub #(.ExpW(ExpW), .FracW(FracW), .Subnormals(Subnormals), .Round(Round),
-                    .Stages(S0), .CutSel(C0)) u_s (
+                    .Stages(lat(0)), .CutSel(lcut(0))) u_s (
     .clk_i, .rst_ni, .valid_i(in_valid_i), .u_i(a_i), .v_i(p0_i), .valid_o(v0[2]), .y_o(sv));
   logic [V3-1:0] d1;
-  ru_ray_tri_delay #(.Width(V3), .Depth(S0)) u_wait0_d (.clk_i, .data_i(d_i), .data_o(d1));
+  ru_pipe #(.Width(V3), .Depth(lat(0))) u_wait0_d (.clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[0]), .data_i(d_i), .data_o(d1));
 
   // ---- L1, L2: q = d x e2, r = s x e1 ----------------------------------------------------------
   logic [V3-1:0] q, r;
   logic [1:0]    v2;
   ru_ray_tri_cross #(.ExpW(ExpW), .FracW(FracW), .Subnormals(Subnormals), .Round(Round),
-                     .MulStages(S1), .MulCuts(C1), .SubStages(S2), .SubCuts(C2)) u_q (
+                     .MulStages(lat(1)), .MulCuts(lcut(1)), .SubStages(lat(2)), .SubCuts(lcut(2))) u_q (
     .clk_i, .rst_ni, .valid_i(v0[0]), .u_i(d1), .v_i(e2), .valid_o(v2[0]), .y_o(q));
   ru_ray_tri_cross #(.ExpW(ExpW), .FracW(FracW), .Subnormals(Subnormals), .Round(Round),
-                     .MulStages(S1), .MulCuts(C1), .SubStages(S2), .SubCuts(C2)) u_r (
+                     .MulStages(lat(1)), .MulCuts(lcut(1)), .SubStages(lat(2)), .SubCuts(lcut(2))) u_r (
     .clk_i, .rst_ni, .valid_i(v0[0]), .u_i(sv), .v_i(e1), .valid_o(v2[1]), .y_o(r));
   logic [V3-1:0] e1_2, e2_2, s_2, d_2;
-  ru_ray_tri_delay #(.Width(V3), .Depth(S1 + S2)) u_wait12_e1 (.clk_i, .data_i(e1), .data_o(e1_2));
-  ru_ray_tri_delay #(.Width(V3), .Depth(S1 + S2)) u_wait12_e2 (.clk_i, .data_i(e2), .data_o(e2_2));
-  ru_ray_tri_delay #(.Width(V3), .Depth(S1 + S2)) u_wait12_s (.clk_i, .data_i(sv), .data_o(s_2));
-  ru_ray_tri_delay #(.Width(V3), .Depth(S1 + S2)) u_wait12_d (.clk_i, .data_i(d1), .data_o(d_2));
+  ru_pipe #(.Width(V3), .Depth(span(1, 3))) u_wait12_e1 (.clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[1]), .data_i(e1), .data_o(e1_2));
+  ru_pipe #(.Width(V3), .Depth(span(1, 3))) u_wait12_e2 (.clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[2]), .data_i(e2), .data_o(e2_2));
+  ru_pipe #(.Width(V3), .Depth(span(1, 3))) u_wait12_s (.clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[3]), .data_i(sv), .data_o(s_2));
+  ru_pipe #(.Width(V3), .Depth(span(1, 3))) u_wait12_d (.clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[4]), .data_i(d1), .data_o(d_2));
   // t_min, t_max wait for L0..L7
   logic [W-1:0] tmin8, tmax8;
-  ru_ray_tri_delay #(.Width(W), .Depth(S0 + S1 + S2 + S3 + S4 + S5 + S6 + S7)) u_wait_tmin (
-    .clk_i, .data_i(tmin_i), .data_o(tmin8));
-  ru_ray_tri_delay #(.Width(W), .Depth(S0 + S1 + S2 + S3 + S4 + S5 + S6 + S7)) u_wait_tmax (
-    .clk_i, .data_i(tmax_i), .data_o(tmax8));
+  ru_pipe #(.Width(W), .Depth(span(0, 8))) u_wait_tmin (
+    .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[5]), .data_i(tmin_i), .data_o(tmin8));
+  ru_pipe #(.Width(W), .Depth(span(0, 8))) u_wait_tmax (
+    .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[6]), .data_i(tmax_i), .data_o(tmax8));
 
   // ---- L3..L5: the four volumes -----------------------------------------------------------------
   logic [W-1:0] vol_v, vol_v1, vol_v2, vol_va;
   logic [3:0]   v5;
   logic [19:0] unused_dot_flags;  // the volumes' flags are not outputs of the unit
   ru_fp_dot3_core #(.ExpW(ExpW), .FracW(FracW), .Subnormals(Subnormals), .Round(Round),
-                   .MulStages(S3), .MulCuts(C3), .Add1Stages(S4), .Add1Cuts(C4),
-                   .Add2Stages(S5), .Add2Cuts(C5)) u_dv (
+                   .MulStages(lat(3)), .MulCuts(lcut(3)), .Add1Stages(lat(4)), .Add1Cuts(lcut(4)),
+                   .Add2Stages(lat(5)), .Add2Cuts(lcut(5))) u_dv (
     .clk_i, .rst_ni, .valid_i(v2[0]), .u_i(q), .v_i(e1_2), .valid_o(v5[0]), .y_o(vol_v),
     .flags_o(unused_dot_flags[0*5+:5]));
   ru_fp_dot3_core #(.ExpW(ExpW), .FracW(FracW), .Subnormals(Subnormals), .Round(Round),
-                   .MulStages(S3), .MulCuts(C3), .Add1Stages(S4), .Add1Cuts(C4),
-                   .Add2Stages(S5), .Add2Cuts(C5)) u_dv1 (
+                   .MulStages(lat(3)), .MulCuts(lcut(3)), .Add1Stages(lat(4)), .Add1Cuts(lcut(4)),
+                   .Add2Stages(lat(5)), .Add2Cuts(lcut(5))) u_dv1 (
     .clk_i, .rst_ni, .valid_i(v2[0]), .u_i(q), .v_i(s_2), .valid_o(v5[1]), .y_o(vol_v1),
     .flags_o(unused_dot_flags[1*5+:5]));
   ru_fp_dot3_core #(.ExpW(ExpW), .FracW(FracW), .Subnormals(Subnormals), .Round(Round),
-                   .MulStages(S3), .MulCuts(C3), .Add1Stages(S4), .Add1Cuts(C4),
-                   .Add2Stages(S5), .Add2Cuts(C5)) u_dv2 (
+                   .MulStages(lat(3)), .MulCuts(lcut(3)), .Add1Stages(lat(4)), .Add1Cuts(lcut(4)),
+                   .Add2Stages(lat(5)), .Add2Cuts(lcut(5))) u_dv2 (
     .clk_i, .rst_ni, .valid_i(v2[0]), .u_i(r), .v_i(d_2), .valid_o(v5[2]), .y_o(vol_v2),
     .flags_o(unused_dot_flags[2*5+:5]));
   ru_fp_dot3_core #(.ExpW(ExpW), .FracW(FracW), .Subnormals(Subnormals), .Round(Round),
-                   .MulStages(S3), .MulCuts(C3), .Add1Stages(S4), .Add1Cuts(C4),
-                   .Add2Stages(S5), .Add2Cuts(C5)) u_dva (
+                   .MulStages(lat(3)), .MulCuts(lcut(3)), .Add1Stages(lat(4)), .Add1Cuts(lcut(4)),
+                   .Add2Stages(lat(5)), .Add2Cuts(lcut(5))) u_dva (
     .clk_i, .rst_ni, .valid_i(v2[0]), .u_i(r), .v_i(e2_2), .valid_o(v5[3]), .y_o(vol_va),
     .flags_o(unused_dot_flags[3*5+:5]));
 
@@ -169,20 +162,20 @@ module ru_ray_tri_mt #(
   logic [W-1:0] inv;
   logic         v6;
   logic [4:0]   unused_div_flags;
-  ru_fp_div #(.ExpW(ExpW), .FracW(FracW), .Stages(S6), .Subnormals(Subnormals), .Round(Round),
-              .CutSel(C6)) u_div (
+  ru_fp_div #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(6)), .Subnormals(Subnormals), .Round(Round),
+              .CutSel(lcut(6))) u_div (
     .clk_i, .rst_ni, .in_valid_i(v5[0]), .a_i(One), .b_i(vol_v),
     .out_valid_o(v6), .y_o(inv), .flags_o(unused_div_flags));
   logic [W-1:0] v1_6, v2_6, va_6;
-  ru_ray_tri_delay #(.Width(3 * W), .Depth(S6)) u_wait6 (
-    .clk_i, .data_i({vol_v1, vol_v2, vol_va}), .data_o({v1_6, v2_6, va_6}));
+  ru_pipe #(.Width(3 * W), .Depth(lat(6))) u_wait6 (
+    .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[7]), .data_i({vol_v1, vol_v2, vol_va}), .data_o({v1_6, v2_6, va_6}));
 
   logic small6;
   if (OptEpsTest != 0) begin : gen_eps
     logic [W-1:0] lt_y;
     logic [4:0]   unused_eps_flags;
     logic         unused_eps_valid;
-    ru_fp_cmp #(.ExpW(ExpW), .FracW(FracW), .Stages(S6), .Subnormals(Subnormals)) u_eps (
+    ru_fp_cmp #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(6)), .Subnormals(Subnormals)) u_eps (
       .clk_i, .rst_ni, .in_valid_i(v5[0]),
       .a_i({1'b0, vol_v[W-2:0]}), .b_i(Eps), .op_i(3'd0),
       .out_valid_o(unused_eps_valid), .y_o(lt_y), .flags_o(unused_eps_flags));
@@ -197,36 +190,36 @@ module ru_ray_tri_mt #(
   logic [W-1:0] q_beta, q_gamma, q_t;
   logic [2:0]   v7;
   logic [14:0]  unused_mul_flags;
-  ru_fp_mul #(.ExpW(ExpW), .FracW(FracW), .Stages(S7), .Subnormals(Subnormals), .Round(Round),
-              .CutSel(C7)) u_beta (
+  ru_fp_mul #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(7)), .Subnormals(Subnormals), .Round(Round),
+              .CutSel(lcut(7))) u_beta (
     .clk_i, .rst_ni, .in_valid_i(v6), .a_i(v1_6), .b_i(inv),
     .out_valid_o(v7[0]), .y_o(q_beta), .flags_o(unused_mul_flags[0+:5]));
-  ru_fp_mul #(.ExpW(ExpW), .FracW(FracW), .Stages(S7), .Subnormals(Subnormals), .Round(Round),
-              .CutSel(C7)) u_gamma (
+  ru_fp_mul #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(7)), .Subnormals(Subnormals), .Round(Round),
+              .CutSel(lcut(7))) u_gamma (
     .clk_i, .rst_ni, .in_valid_i(v6), .a_i(v2_6), .b_i(inv),
     .out_valid_o(v7[1]), .y_o(q_gamma), .flags_o(unused_mul_flags[5+:5]));
-  ru_fp_mul #(.ExpW(ExpW), .FracW(FracW), .Stages(S7), .Subnormals(Subnormals), .Round(Round),
-              .CutSel(C7)) u_t (
+  ru_fp_mul #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(7)), .Subnormals(Subnormals), .Round(Round),
+              .CutSel(lcut(7))) u_t (
     .clk_i, .rst_ni, .in_valid_i(v6), .a_i(va_6), .b_i(inv),
     .out_valid_o(v7[2]), .y_o(q_t), .flags_o(unused_mul_flags[10+:5]));
   logic small7;
-  ru_ray_tri_delay #(.Width(1), .Depth(S7)) u_wait7 (.clk_i, .data_i(small6), .data_o(small7));
+  ru_pipe #(.Width(1), .Depth(lat(7))) u_wait7 (.clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[8]), .data_i(small6), .data_o(small7));
 
   // ---- L8: sum = beta + gamma; beside it the interval test and beta, gamma >= 0 ------------------
   logic [W-1:0] sum;
   logic         v8;
   logic [4:0]   unused_sum_flags;
-  ru_fp_add #(.ExpW(ExpW), .FracW(FracW), .Stages(S8), .Subnormals(Subnormals), .Round(Round),
-              .CutSel(C8)) u_sum (
+  ru_fp_add #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(8)), .Subnormals(Subnormals), .Round(Round),
+              .CutSel(lcut(8))) u_sum (
     .clk_i, .rst_ni, .in_valid_i(v7[0]), .a_i(q_beta), .b_i(q_gamma), .op_i(1'b0),
     .out_valid_o(v8), .y_o(sum), .flags_o(unused_sum_flags));
   logic [W-1:0] lo_y, hi_y;
   logic [9:0]   unused_iv_flags;
   logic [1:0]   unused_iv_valid;
-  ru_fp_cmp #(.ExpW(ExpW), .FracW(FracW), .Stages(S8), .Subnormals(Subnormals)) u_lo (
+  ru_fp_cmp #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(8)), .Subnormals(Subnormals)) u_lo (
     .clk_i, .rst_ni, .in_valid_i(v7[0]), .a_i(tmin8), .b_i(q_t), .op_i(3'd0),
     .out_valid_o(unused_iv_valid[0]), .y_o(lo_y), .flags_o(unused_iv_flags[0+:5]));
-  ru_fp_cmp #(.ExpW(ExpW), .FracW(FracW), .Stages(S8), .Subnormals(Subnormals)) u_hi (
+  ru_fp_cmp #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(8)), .Subnormals(Subnormals)) u_hi (
     .clk_i, .rst_ni, .in_valid_i(v7[0]), .a_i(q_t), .b_i(tmax8), .op_i(3'd0),
     .out_valid_o(unused_iv_valid[1]), .y_o(hi_y), .flags_o(unused_iv_flags[5+:5]));
   logic [2*W-3:0] unused_iv_hi;
@@ -241,26 +234,26 @@ module ru_ray_tri_mt #(
   logic ge7;
   assign ge7 = f_ge0(q_beta) & f_ge0(q_gamma);
   logic ge8, small8, in_range8;
-  ru_ray_tri_delay #(.Width(2), .Depth(S8)) u_wait8 (
-    .clk_i, .data_i({ge7, small7}), .data_o({ge8, small8}));
+  ru_pipe #(.Width(2), .Depth(lat(8))) u_wait8 (
+    .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[9]), .data_i({ge7, small7}), .data_o({ge8, small8}));
   assign in_range8 = lo_y[0] & hi_y[0];
   logic [W-1:0] t8, beta8, gamma8;
-  ru_ray_tri_delay #(.Width(3 * W), .Depth(S8)) u_wait8_v (
-    .clk_i, .data_i({q_t, q_beta, q_gamma}), .data_o({t8, beta8, gamma8}));
+  ru_pipe #(.Width(3 * W), .Depth(lat(8))) u_wait8_v (
+    .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[10]), .data_i({q_t, q_beta, q_gamma}), .data_o({t8, beta8, gamma8}));
 
   // ---- L9: sum <= 1 ------------------------------------------------------------------------------
   logic [W-1:0] le_y;
   logic [4:0]   unused_le_flags;
-  ru_fp_cmp #(.ExpW(ExpW), .FracW(FracW), .Stages(S9), .Subnormals(Subnormals), .CutSel(C9)) u_le (
+  ru_fp_cmp #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(9)), .Subnormals(Subnormals), .CutSel(lcut(9))) u_le (
     .clk_i, .rst_ni, .in_valid_i(v8), .a_i(sum), .b_i(One), .op_i(3'd1),
     .out_valid_o(out_valid_o), .y_o(le_y), .flags_o(unused_le_flags));
   logic [W-2:0] unused_le_hi;
   assign unused_le_hi = le_y[W-1:1];
   logic ge9, small9, in_range9;
-  ru_ray_tri_delay #(.Width(3), .Depth(S9)) u_wait9 (
-    .clk_i, .data_i({ge8, small8, in_range8}), .data_o({ge9, small9, in_range9}));
-  ru_ray_tri_delay #(.Width(3 * W), .Depth(S9)) u_wait9_v (
-    .clk_i, .data_i({t8, beta8, gamma8}), .data_o({t_o, beta_o, gamma_o}));
+  ru_pipe #(.Width(3), .Depth(lat(9))) u_wait9 (
+    .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[11]), .data_i({ge8, small8, in_range8}), .data_o({ge9, small9, in_range9}));
+  ru_pipe #(.Width(3 * W), .Depth(lat(9))) u_wait9_v (
+    .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[12]), .data_i({t8, beta8, gamma8}), .data_o({t_o, beta_o, gamma_o}));
 
   logic in_tri;
   assign in_tri = ge9 & le_y[0];
@@ -277,8 +270,8 @@ module ru_ray_tri_mt #(
     logic [4*W-1:0] vols;
     assign vols = {vol_v2, vol_v1, vol_va, vol_v};
     logic [4*W-1:0] vols9;
-    ru_ray_tri_delay #(.Width(4 * W), .Depth(S6 + S7 + S8 + S9)) u_wait_vol (
-      .clk_i, .data_i(vols), .data_o(vols9));
+    ru_pipe #(.Width(4 * W), .Depth(span(6, 10))) u_wait_vol (
+      .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[13]), .data_i(vols), .data_o(vols9));
     assign vol_o = {vols9[3*W+:W], vols9[2*W+:W], {W{1'b0}}, vols9[W+:W], vols9[0+:W]};
   end else begin : gen_no_vol
     assign vol_o = '0;

@@ -1,7 +1,6 @@
-// ru_ray_tri_robust (Kensler Fig. 3.6) and the FP units it is built from
+ru_pipe_pkg.sv
 ru_fp_pkg.sv
-ru_ray_tri_pkg.sv
-ru_fp_pipe.sv
+ru_pipe.sv
 ru_lzc.sv
 ru_fp_classify.sv
 ru_fp_normalize.sv
@@ -11,7 +10,6 @@ ru_fp_add.sv
 ru_fp_mul.sv
 ru_fp_div.sv
 ru_fp_cmp.sv
-ru_ray_tri_delay.sv
 ru_ray_tri_vsub.sv
 ru_ray_tri_cross.sv
 ru_fp_dot3_core.sv

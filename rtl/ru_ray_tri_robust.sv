@@ -13,7 +13,7 @@
 //   vol_o [5W] {V2, V1, V0, Va, V} (diagnostics; zero unless OptVolOut = 1).
 //
 // Parameters: ExpW, FracW, Subnormals, Round (the format, every operation rounds with Round);
-//   Stages       latency in cycles (0 = combinational), registers placed by ru_ray_tri_pkg;
+//   Stages       latency in cycles (0 = combinational), registers placed by ru_pipe_pkg;
 //   OptTieBreak  1: when V_i is exactly zero, the triangle for which p_{i+1} is the
 //                lexicographically smaller end point of the edge misses (Fig. 3.6's test);
 //   OptEpsTest   1: |V| < eps misses, eps = EpsBits (a bit pattern of the format);
@@ -72,70 +72,67 @@ module ru_ray_tri_robust #(
   localparam int unsigned V3 = 3 * W;
   localparam logic [W-1:0] Eps = W'(EpsBits);
 
-  // ---- register placement (ru_ray_tri_pkg) -----------------------------------------------
+  // ---- register placement (ru_pipe_pkg) -----------------------------------------------
   localparam int unsigned NLev = 8;
   // level kinds, level 0 in the low nibble: add mul add mul add add div cmp
-  localparam logic [63:0] Kinds = {32'd0, ru_ray_tri_pkg::KCmp, ru_ray_tri_pkg::KDiv,
-      ru_ray_tri_pkg::KAdd, ru_ray_tri_pkg::KAdd, ru_ray_tri_pkg::KMul, ru_ray_tri_pkg::KAdd,
-      ru_ray_tri_pkg::KMul, ru_ray_tri_pkg::KAdd};
-  localparam logic [31:0] NSegs = {8'(ru_fp_pkg::cmp_nseg()), 8'(ru_fp_pkg::div_nseg(FracW)),
-                                   8'(ru_fp_pkg::mul_nseg(FracW)), 8'(ru_fp_pkg::add_nseg())};
-  localparam logic [4*ru_ray_tri_pkg::FpWW-1:0] Wts = {
-      ru_fp_pkg::cmp_seg_w(ExpW, FracW), ru_fp_pkg::div_seg_w(ExpW, FracW, Subnormals),
-      ru_fp_pkg::mul_seg_w(ExpW, FracW, Subnormals), ru_fp_pkg::add_seg_w(ExpW, FracW, Subnormals)};
-  localparam logic [255:0] Cuts = ru_ray_tri_pkg::unit_cuts(Kinds, NLev, NSegs, Wts, Stages);
+  localparam logic [4*ru_pipe_pkg::MaxLev-1:0] Kinds = {32'd0, ru_fp_pkg::KCmp, ru_fp_pkg::KDiv,
+      ru_fp_pkg::KAdd, ru_fp_pkg::KAdd, ru_fp_pkg::KMul, ru_fp_pkg::KAdd,
+      ru_fp_pkg::KMul, ru_fp_pkg::KAdd};
+  localparam logic [8*ru_pipe_pkg::MaxKind-1:0] NSegs = ru_fp_pkg::op_nsegs(FracW);
+  localparam logic [ru_pipe_pkg::MaxSeg:0] Cuts = ru_pipe_pkg::unit_cuts(
+      Kinds, NLev, NSegs, ru_fp_pkg::op_wts(ExpW, FracW, Subnormals), Stages);
+  localparam logic [ru_pipe_pkg::MaxLev*ru_pipe_pkg::MW-1:0] LevCuts =
+      ru_pipe_pkg::level_cuts_all(Cuts, Kinds, NLev, NSegs);
+  localparam logic [ru_pipe_pkg::MaxLev*32-1:0] LevStages =
+      ru_pipe_pkg::level_stages_all(Cuts, Kinds, NLev, NSegs, Stages);
   // Useful maximum of Stages (a register at every cut position of the level chain) and the
   // registers placed at the output of the last level (those beyond MaxUsefulStages).
-  localparam int unsigned MaxUsefulStages = ru_ray_tri_pkg::unit_max_useful(Kinds, NLev, NSegs);
-  localparam int unsigned OutRegs = ru_ray_tri_pkg::unit_out_regs(Cuts, Stages);
-  if (OutRegs != ((Stages > MaxUsefulStages) ? Stages - MaxUsefulStages : 0)) begin : gen_out_check
+  localparam int unsigned MaxUsefulStages = ru_pipe_pkg::unit_max_useful(Kinds, NLev, NSegs);
+  localparam int unsigned OutRegs = ru_pipe_pkg::out_regs(Cuts, Stages);
+  if (OutRegs != ru_pipe_pkg::extra_regs(Stages, MaxUsefulStages)) begin : gen_out_check
     $error("ru_ray_tri_robust: internal error: %0d output registers at Stages %0d", OutRegs, Stages);
   end
-  localparam logic [63:0] C0 = ru_ray_tri_pkg::level_cuts(Cuts, Kinds, NSegs, 0);
-  localparam logic [63:0] C1 = ru_ray_tri_pkg::level_cuts(Cuts, Kinds, NSegs, 1);
-  localparam logic [63:0] C2 = ru_ray_tri_pkg::level_cuts(Cuts, Kinds, NSegs, 2);
-  localparam logic [63:0] C3 = ru_ray_tri_pkg::level_cuts(Cuts, Kinds, NSegs, 3);
-  localparam logic [63:0] C4 = ru_ray_tri_pkg::level_cuts(Cuts, Kinds, NSegs, 4);
-  localparam logic [63:0] C5 = ru_ray_tri_pkg::level_cuts(Cuts, Kinds, NSegs, 5);
-  localparam logic [63:0] C6 = ru_ray_tri_pkg::level_cuts(Cuts, Kinds, NSegs, 6);
-  localparam logic [63:0] C7 = ru_ray_tri_pkg::level_cuts(Cuts, Kinds, NSegs, 7);
-  localparam int unsigned S0 = ru_ray_tri_pkg::level_stages(Cuts, Kinds, NLev, NSegs, 0, Stages);
-  localparam int unsigned S1 = ru_ray_tri_pkg::level_stages(Cuts, Kinds, NLev, NSegs, 1, Stages);
-  localparam int unsigned S2 = ru_ray_tri_pkg::level_stages(Cuts, Kinds, NLev, NSegs, 2, Stages);
-  localparam int unsigned S3 = ru_ray_tri_pkg::level_stages(Cuts, Kinds, NLev, NSegs, 3, Stages);
-  localparam int unsigned S4 = ru_ray_tri_pkg::level_stages(Cuts, Kinds, NLev, NSegs, 4, Stages);
-  localparam int unsigned S5 = ru_ray_tri_pkg::level_stages(Cuts, Kinds, NLev, NSegs, 5, Stages);
-  localparam int unsigned S6 = ru_ray_tri_pkg::level_stages(Cuts, Kinds, NLev, NSegs, 6, Stages);
-  localparam int unsigned S7 = ru_ray_tri_pkg::level_stages(Cuts, Kinds, NLev, NSegs, 7, Stages);
+  // level k: CutSel lcut(k), latency lat(k); span(a, b) = latency of levels a .. b-1
+  function automatic logic [ru_pipe_pkg::MaxSeg:0] lcut(input int unsigned k);
+    lcut = LevCuts[k*ru_pipe_pkg::MW+:ru_pipe_pkg::MW];
+  endfunction
+  function automatic int unsigned lat(input int unsigned k);
+    lat = LevStages[k*32+:32];
+  endfunction
+  function automatic int unsigned span(input int unsigned first, input int unsigned last);
+    span = ru_pipe_pkg::level_span(LevStages, first, last);
+  endfunction
+  // data-only delay lines (ru_pipe; the level instances carry the valid bits)
+  logic [14:0] unused_dly_valid;
+
   // The unit's latency: Stages by construction (checked here at elaboration).
-  localparam int unsigned Latency = S0 + S1 + S2 + S3 + S4 + S5 + S6 + S7;
-  if (Latency != Stages) begin : gen_latency_check
-    $error("ru_ray_tri_robust: internal error: latency %0d != Stages %0d", Latency, Stages);
+  if (span(0, NLev) != Stages) begin : gen_latency_check
+    $error("ru_ray_tri_robust: internal error: latency %0d != Stages %0d", span(0, NLev), Stages);
   end
 
   // ---- L0: edges, differences to a, lexicographic order of the edges' end points ---------------
   logic [V3-1:0] e0, e1, e2, ap0, ap1, ap2, p2a;
   logic [6:0]    v0;
   ru_ray_tri_vsub #(.ExpW(ExpW), .FracW(FracW), .Subnormals(Subnormals), .Round(Round),
-                    .Stages(S0), .CutSel(C0)) u_e0 (
+                    .Stages(lat(0)), .CutSel(lcut(0))) u_e0 (
     .clk_i, .rst_ni, .valid_i(in_valid_i), .u_i(p1_i), .v_i(p2_i), .valid_o(v0[0]), .y_o(e0));
   ru_ray_tri_vsub #(.ExpW(ExpW), .FracW(FracW), .Subnormals(Subnormals), .Round(Round),
-                    .Stages(S0), .CutSel(C0)) u_e1 (
+                    .Stages(lat(0)), .CutSel(lcut(0))) u_e1 (
     .clk_i, .rst_ni, .valid_i(in_valid_i), .u_i(p2_i), .v_i(p0_i), .valid_o(v0[1]), .y_o(e1));
   ru_ray_tri_vsub #(.ExpW(ExpW), .FracW(FracW), .Subnormals(Subnormals), .Round(Round),
-                    .Stages(S0), .CutSel(C0)) u_e2 (
+                    .Stages(lat(0)), .CutSel(lcut(0))) u_e2 (
     .clk_i, .rst_ni, .valid_i(in_valid_i), .u_i(p0_i), .v_i(p1_i), .valid_o(v0[2]), .y_o(e2));
   ru_ray_tri_vsub #(.ExpW(ExpW), .FracW(FracW), .Subnormals(Subnormals), .Round(Round),
-                    .Stages(S0), .CutSel(C0)) u_ap0 (
+                    .Stages(lat(0)), .CutSel(lcut(0))) u_ap0 (
     .clk_i, .rst_ni, .valid_i(in_valid_i), .u_i(a_i), .v_i(p0_i), .valid_o(v0[3]), .y_o(ap0));
   ru_ray_tri_vsub #(.ExpW(ExpW), .FracW(FracW), .Subnormals(Subnormals), .Round(Round),
-                    .Stages(S0), .CutSel(C0)) u_ap1 (
+                    .Stages(lat(0)), .CutSel(lcut(0))) u_ap1 (
     .clk_i, .rst_ni, .valid_i(in_valid_i), .u_i(a_i), .v_i(p1_i), .valid_o(v0[4]), .y_o(ap1));
   ru_ray_tri_vsub #(.ExpW(ExpW), .FracW(FracW), .Subnormals(Subnormals), .Round(Round),
-                    .Stages(S0), .CutSel(C0)) u_ap2 (
+                    .Stages(lat(0)), .CutSel(lcut(0))) u_ap2 (
     .clk_i, .rst_ni, .valid_i(in_valid_i), .u_i(a_i), .v_i(p2_i), .valid_o(v0[5]), .y_o(ap2));
   ru_ray_tri_vsub #(.ExpW(ExpW), .FracW(FracW), .Subnormals(Subnormals), .Round(Round),
-                    .Stages(S0), .CutSel(C0)) u_p2a (
+                    .Stages(lat(0)), .CutSel(lcut(0))) u_p2a (
     .clk_i, .rst_ni, .valid_i(in_valid_i), .u_i(p2_i), .v_i(a_i), .valid_o(v0[6]), .y_o(p2a));
 
   // lexmin_first(l, r) for the edge end-point pairs (p1,p2), (p2,p0), (p0,p1):
@@ -151,12 +148,12 @@ module ru_ray_tri_robust #(
   for (genvar i = 0; i < 3; i++) begin : gen_lex
     for (genvar c = 0; c < 3; c++) begin : gen_coord
       localparam int unsigned K = 3 * i + c;
-      ru_fp_cmp #(.ExpW(ExpW), .FracW(FracW), .Stages(S0), .Subnormals(Subnormals)) u_lt (
+      ru_fp_cmp #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(0)), .Subnormals(Subnormals)) u_lt (
         .clk_i, .rst_ni, .in_valid_i(in_valid_i),
         .a_i(lex_l[i*V3+c*W+:W]), .b_i(lex_r[i*V3+c*W+:W]), .op_i(3'd0),
         .out_valid_o(unused_cmp_valid[2*K]), .y_o(cmp_y[2*K*W+:W]),
         .flags_o(unused_cmp_flags[10*K+:5]));
-      ru_fp_cmp #(.ExpW(ExpW), .FracW(FracW), .Stages(S0), .Subnormals(Subnormals)) u_gt (
+      ru_fp_cmp #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(0)), .Subnormals(Subnormals)) u_gt (
         .clk_i, .rst_ni, .in_valid_i(in_valid_i),
         .a_i(lex_r[i*V3+c*W+:W]), .b_i(lex_l[i*V3+c*W+:W]), .op_i(3'd0),
         .out_valid_o(unused_cmp_valid[2*K+1]), .y_o(cmp_y[(2*K+1)*W+:W]),
@@ -172,7 +169,7 @@ module ru_ray_tri_robust #(
 
   // d, t_min, t_max wait for L0
   logic [V3-1:0] d1;
-  ru_ray_tri_delay #(.Width(V3), .Depth(S0)) u_wait0_d (.clk_i, .data_i(d_i), .data_o(d1));
+  ru_pipe #(.Width(V3), .Depth(lat(0))) u_wait0_d (.clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[0]), .data_i(d_i), .data_o(d1));
 
   // ---- L1, L2: cross products ---------------------------------------------------------------
   logic [V3-1:0] am0, am1, am2;
@@ -183,59 +180,59 @@ module ru_ray_tri_robust #(
   logic [V3-1:0] c0, c1, c2, nrm;
   logic [3:0]    v2;
   ru_ray_tri_cross #(.ExpW(ExpW), .FracW(FracW), .Subnormals(Subnormals), .Round(Round),
-                     .MulStages(S1), .MulCuts(C1), .SubStages(S2), .SubCuts(C2)) u_c0 (
+                     .MulStages(lat(1)), .MulCuts(lcut(1)), .SubStages(lat(2)), .SubCuts(lcut(2))) u_c0 (
     .clk_i, .rst_ni, .valid_i(v0[0]), .u_i(am0), .v_i(d1), .valid_o(v2[0]), .y_o(c0));
   ru_ray_tri_cross #(.ExpW(ExpW), .FracW(FracW), .Subnormals(Subnormals), .Round(Round),
-                     .MulStages(S1), .MulCuts(C1), .SubStages(S2), .SubCuts(C2)) u_c1 (
+                     .MulStages(lat(1)), .MulCuts(lcut(1)), .SubStages(lat(2)), .SubCuts(lcut(2))) u_c1 (
     .clk_i, .rst_ni, .valid_i(v0[0]), .u_i(am1), .v_i(d1), .valid_o(v2[1]), .y_o(c1));
   ru_ray_tri_cross #(.ExpW(ExpW), .FracW(FracW), .Subnormals(Subnormals), .Round(Round),
-                     .MulStages(S1), .MulCuts(C1), .SubStages(S2), .SubCuts(C2)) u_c2 (
+                     .MulStages(lat(1)), .MulCuts(lcut(1)), .SubStages(lat(2)), .SubCuts(lcut(2))) u_c2 (
     .clk_i, .rst_ni, .valid_i(v0[0]), .u_i(am2), .v_i(d1), .valid_o(v2[2]), .y_o(c2));
   ru_ray_tri_cross #(.ExpW(ExpW), .FracW(FracW), .Subnormals(Subnormals), .Round(Round),
-                     .MulStages(S1), .MulCuts(C1), .SubStages(S2), .SubCuts(C2)) u_n (
+                     .MulStages(lat(1)), .MulCuts(lcut(1)), .SubStages(lat(2)), .SubCuts(lcut(2))) u_n (
     .clk_i, .rst_ni, .valid_i(v0[0]), .u_i(e1), .v_i(e0), .valid_o(v2[3]), .y_o(nrm));
 
   // e0..e2, p2 - a, d wait for L1 + L2; the lexmin bits and t_min/t_max wait longer
   logic [V3-1:0] e0_2, e1_2, e2_2, p2a_2, d_2;
-  ru_ray_tri_delay #(.Width(V3), .Depth(S1 + S2)) u_wait12_e0 (.clk_i, .data_i(e0), .data_o(e0_2));
-  ru_ray_tri_delay #(.Width(V3), .Depth(S1 + S2)) u_wait12_e1 (.clk_i, .data_i(e1), .data_o(e1_2));
-  ru_ray_tri_delay #(.Width(V3), .Depth(S1 + S2)) u_wait12_e2 (.clk_i, .data_i(e2), .data_o(e2_2));
-  ru_ray_tri_delay #(.Width(V3), .Depth(S1 + S2)) u_wait12_pa (.clk_i, .data_i(p2a), .data_o(p2a_2));
-  ru_ray_tri_delay #(.Width(V3), .Depth(S1 + S2)) u_wait12_d (.clk_i, .data_i(d1), .data_o(d_2));
+  ru_pipe #(.Width(V3), .Depth(span(1, 3))) u_wait12_e0 (.clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[1]), .data_i(e0), .data_o(e0_2));
+  ru_pipe #(.Width(V3), .Depth(span(1, 3))) u_wait12_e1 (.clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[2]), .data_i(e1), .data_o(e1_2));
+  ru_pipe #(.Width(V3), .Depth(span(1, 3))) u_wait12_e2 (.clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[3]), .data_i(e2), .data_o(e2_2));
+  ru_pipe #(.Width(V3), .Depth(span(1, 3))) u_wait12_pa (.clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[4]), .data_i(p2a), .data_o(p2a_2));
+  ru_pipe #(.Width(V3), .Depth(span(1, 3))) u_wait12_d (.clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[5]), .data_i(d1), .data_o(d_2));
   // t_min, t_max wait for L0..L6
   logic [W-1:0] tmin7, tmax7;
-  ru_ray_tri_delay #(.Width(W), .Depth(S0 + S1 + S2 + S3 + S4 + S5 + S6)) u_wait_tmin (
-    .clk_i, .data_i(tmin_i), .data_o(tmin7));
-  ru_ray_tri_delay #(.Width(W), .Depth(S0 + S1 + S2 + S3 + S4 + S5 + S6)) u_wait_tmax (
-    .clk_i, .data_i(tmax_i), .data_o(tmax7));
+  ru_pipe #(.Width(W), .Depth(span(0, 7))) u_wait_tmin (
+    .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[6]), .data_i(tmin_i), .data_o(tmin7));
+  ru_pipe #(.Width(W), .Depth(span(0, 7))) u_wait_tmax (
+    .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[7]), .data_i(tmax_i), .data_o(tmax7));
 
   // ---- L3..L5: the five volumes --------------------------------------------------------------
   logic [W-1:0] vol_v, vol_va, vol_v0, vol_v1, vol_v2;
   logic [4:0]   v5;
   logic [24:0] unused_dot_flags;  // the volumes' flags are not outputs of the unit
   ru_fp_dot3_core #(.ExpW(ExpW), .FracW(FracW), .Subnormals(Subnormals), .Round(Round),
-                   .MulStages(S3), .MulCuts(C3), .Add1Stages(S4), .Add1Cuts(C4),
-                   .Add2Stages(S5), .Add2Cuts(C5)) u_dv0 (
+                   .MulStages(lat(3)), .MulCuts(lcut(3)), .Add1Stages(lat(4)), .Add1Cuts(lcut(4)),
+                   .Add2Stages(lat(5)), .Add2Cuts(lcut(5))) u_dv0 (
     .clk_i, .rst_ni, .valid_i(v2[0]), .u_i(c0), .v_i(e0_2), .valid_o(v5[0]), .y_o(vol_v0),
     .flags_o(unused_dot_flags[0*5+:5]));
   ru_fp_dot3_core #(.ExpW(ExpW), .FracW(FracW), .Subnormals(Subnormals), .Round(Round),
-                   .MulStages(S3), .MulCuts(C3), .Add1Stages(S4), .Add1Cuts(C4),
-                   .Add2Stages(S5), .Add2Cuts(C5)) u_dv1 (
+                   .MulStages(lat(3)), .MulCuts(lcut(3)), .Add1Stages(lat(4)), .Add1Cuts(lcut(4)),
+                   .Add2Stages(lat(5)), .Add2Cuts(lcut(5))) u_dv1 (
     .clk_i, .rst_ni, .valid_i(v2[0]), .u_i(c1), .v_i(e1_2), .valid_o(v5[1]), .y_o(vol_v1),
     .flags_o(unused_dot_flags[1*5+:5]));
   ru_fp_dot3_core #(.ExpW(ExpW), .FracW(FracW), .Subnormals(Subnormals), .Round(Round),
-                   .MulStages(S3), .MulCuts(C3), .Add1Stages(S4), .Add1Cuts(C4),
-                   .Add2Stages(S5), .Add2Cuts(C5)) u_dv2 (
+                   .MulStages(lat(3)), .MulCuts(lcut(3)), .Add1Stages(lat(4)), .Add1Cuts(lcut(4)),
+                   .Add2Stages(lat(5)), .Add2Cuts(lcut(5))) u_dv2 (
     .clk_i, .rst_ni, .valid_i(v2[0]), .u_i(c2), .v_i(e2_2), .valid_o(v5[2]), .y_o(vol_v2),
     .flags_o(unused_dot_flags[2*5+:5]));
   ru_fp_dot3_core #(.ExpW(ExpW), .FracW(FracW), .Subnormals(Subnormals), .Round(Round),
-                   .MulStages(S3), .MulCuts(C3), .Add1Stages(S4), .Add1Cuts(C4),
-                   .Add2Stages(S5), .Add2Cuts(C5)) u_dv (
+                   .MulStages(lat(3)), .MulCuts(lcut(3)), .Add1Stages(lat(4)), .Add1Cuts(lcut(4)),
+                   .Add2Stages(lat(5)), .Add2Cuts(lcut(5))) u_dv (
     .clk_i, .rst_ni, .valid_i(v2[0]), .u_i(nrm), .v_i(d_2), .valid_o(v5[3]), .y_o(vol_v),
     .flags_o(unused_dot_flags[3*5+:5]));
   ru_fp_dot3_core #(.ExpW(ExpW), .FracW(FracW), .Subnormals(Subnormals), .Round(Round),
-                   .MulStages(S3), .MulCuts(C3), .Add1Stages(S4), .Add1Cuts(C4),
-                   .Add2Stages(S5), .Add2Cuts(C5)) u_dva (
+                   .MulStages(lat(3)), .MulCuts(lcut(3)), .Add1Stages(lat(4)), .Add1Cuts(lcut(4)),
+                   .Add2Stages(lat(5)), .Add2Cuts(lcut(5))) u_dva (
     .clk_i, .rst_ni, .valid_i(v2[0]), .u_i(nrm), .v_i(p2a_2), .valid_o(v5[4]), .y_o(vol_va),
     .flags_o(unused_dot_flags[4*5+:5]));
 
@@ -243,16 +240,16 @@ module ru_ray_tri_robust #(
   logic [W-1:0] q_t, q_beta, q_gamma;
   logic [2:0]   v6;
   logic [14:0]  unused_div_flags;
-  ru_fp_div #(.ExpW(ExpW), .FracW(FracW), .Stages(S6), .Subnormals(Subnormals), .Round(Round),
-              .CutSel(C6)) u_div_t (
+  ru_fp_div #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(6)), .Subnormals(Subnormals), .Round(Round),
+              .CutSel(lcut(6))) u_div_t (
     .clk_i, .rst_ni, .in_valid_i(v5[0]), .a_i(vol_va), .b_i(vol_v),
     .out_valid_o(v6[0]), .y_o(q_t), .flags_o(unused_div_flags[0+:5]));
-  ru_fp_div #(.ExpW(ExpW), .FracW(FracW), .Stages(S6), .Subnormals(Subnormals), .Round(Round),
-              .CutSel(C6)) u_div_beta (
+  ru_fp_div #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(6)), .Subnormals(Subnormals), .Round(Round),
+              .CutSel(lcut(6))) u_div_beta (
     .clk_i, .rst_ni, .in_valid_i(v5[0]), .a_i(vol_v1), .b_i(vol_v),
     .out_valid_o(v6[1]), .y_o(q_beta), .flags_o(unused_div_flags[5+:5]));
-  ru_fp_div #(.ExpW(ExpW), .FracW(FracW), .Stages(S6), .Subnormals(Subnormals), .Round(Round),
-              .CutSel(C6)) u_div_gamma (
+  ru_fp_div #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(6)), .Subnormals(Subnormals), .Round(Round),
+              .CutSel(lcut(6))) u_div_gamma (
     .clk_i, .rst_ni, .in_valid_i(v5[0]), .a_i(vol_v2), .b_i(vol_v),
     .out_valid_o(v6[2]), .y_o(q_gamma), .flags_o(unused_div_flags[10+:5]));
 
@@ -279,8 +276,8 @@ module ru_ray_tri_robust #(
   assign mixed5 = (|vneg) & (|vpos);
   if (OptTieBreak != 0) begin : gen_tie
     logic [2:0] s5;  // lexmin bits at the input of L6
-    ru_ray_tri_delay #(.Width(3), .Depth(S1 + S2 + S3 + S4 + S5)) u_wait_s (
-      .clk_i, .data_i(s0q), .data_o(s5));
+    ru_pipe #(.Width(3), .Depth(span(1, 6))) u_wait_s (
+      .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[8]), .data_i(s0q), .data_o(s5));
     assign tie5 = |(vzero & s5);
   end else begin : gen_no_tie
     assign tie5 = 1'b0;
@@ -293,7 +290,7 @@ module ru_ray_tri_robust #(
     logic [W-1:0] lt_y;
     logic [4:0]   unused_eps_flags;
     logic         unused_eps_valid;
-    ru_fp_cmp #(.ExpW(ExpW), .FracW(FracW), .Stages(S6), .Subnormals(Subnormals)) u_eps (
+    ru_fp_cmp #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(6)), .Subnormals(Subnormals)) u_eps (
       .clk_i, .rst_ni, .in_valid_i(v5[0]),
       .a_i({1'b0, vol_v[W-2:0]}), .b_i(Eps), .op_i(3'd0),
       .out_valid_o(unused_eps_valid), .y_o(lt_y), .flags_o(unused_eps_flags));
@@ -305,35 +302,35 @@ module ru_ray_tri_robust #(
   end
 
   logic mixed6, tie6;
-  ru_ray_tri_delay #(.Width(2), .Depth(S6)) u_wait6 (
-    .clk_i, .data_i({mixed5, tie5}), .data_o({mixed6, tie6}));
+  ru_pipe #(.Width(2), .Depth(lat(6))) u_wait6 (
+    .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[9]), .data_i({mixed5, tie5}), .data_o({mixed6, tie6}));
 
   // ---- L7: t_min < t < t_max ------------------------------------------------------------------
   logic [W-1:0] lo_y, hi_y;
   logic [9:0]   unused_iv_flags;
   logic         unused_iv_valid;
-  ru_fp_cmp #(.ExpW(ExpW), .FracW(FracW), .Stages(S7), .Subnormals(Subnormals), .CutSel(C7)) u_lo (
+  ru_fp_cmp #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(7)), .Subnormals(Subnormals), .CutSel(lcut(7))) u_lo (
     .clk_i, .rst_ni, .in_valid_i(v6[0]), .a_i(tmin7), .b_i(q_t), .op_i(3'd0),
     .out_valid_o(out_valid_o), .y_o(lo_y), .flags_o(unused_iv_flags[0+:5]));
-  ru_fp_cmp #(.ExpW(ExpW), .FracW(FracW), .Stages(S7), .Subnormals(Subnormals), .CutSel(C7)) u_hi (
+  ru_fp_cmp #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(7)), .Subnormals(Subnormals), .CutSel(lcut(7))) u_hi (
     .clk_i, .rst_ni, .in_valid_i(v6[0]), .a_i(q_t), .b_i(tmax7), .op_i(3'd0),
     .out_valid_o(unused_iv_valid), .y_o(hi_y), .flags_o(unused_iv_flags[5+:5]));
   logic [2*W-3:0] unused_iv_hi;
   assign unused_iv_hi = {lo_y[W-1:1], hi_y[W-1:1]};
 
   logic mixed7, tie7, small7;
-  ru_ray_tri_delay #(.Width(3), .Depth(S7)) u_wait7 (
-    .clk_i, .data_i({mixed6, tie6, small6}), .data_o({mixed7, tie7, small7}));
-  ru_ray_tri_delay #(.Width(W), .Depth(S7)) u_wait7_t (.clk_i, .data_i(q_t), .data_o(t_o));
-  ru_ray_tri_delay #(.Width(W), .Depth(S7)) u_wait7_b (.clk_i, .data_i(q_beta), .data_o(beta_o));
-  ru_ray_tri_delay #(.Width(W), .Depth(S7)) u_wait7_g (.clk_i, .data_i(q_gamma), .data_o(gamma_o));
+  ru_pipe #(.Width(3), .Depth(lat(7))) u_wait7 (
+    .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[10]), .data_i({mixed6, tie6, small6}), .data_o({mixed7, tie7, small7}));
+  ru_pipe #(.Width(W), .Depth(lat(7))) u_wait7_t (.clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[11]), .data_i(q_t), .data_o(t_o));
+  ru_pipe #(.Width(W), .Depth(lat(7))) u_wait7_b (.clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[12]), .data_i(q_beta), .data_o(beta_o));
+  ru_pipe #(.Width(W), .Depth(lat(7))) u_wait7_g (.clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[13]), .data_i(q_gamma), .data_o(gamma_o));
 
   // diagnostics: the volumes wait for L6 and L7
   if (OptVolOut != 0) begin : gen_vol
     logic [5*W-1:0] vols;
     assign vols = {vol_v2, vol_v1, vol_v0, vol_va, vol_v};
-    ru_ray_tri_delay #(.Width(5 * W), .Depth(S6 + S7)) u_wait_vol (
-      .clk_i, .data_i(vols), .data_o(vol_o));
+    ru_pipe #(.Width(5 * W), .Depth(span(6, 8))) u_wait_vol (
+      .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[14]), .data_i(vols), .data_o(vol_o));
   end else begin : gen_no_vol
     assign vol_o = '0;
   end

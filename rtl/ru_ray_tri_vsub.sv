@@ -1,14 +1,14 @@
 // ru_ray_tri_vsub: componentwise vector difference y = u - v (three ru_fp_add, op_i = 1),
 // vsub() of model/include/rayunits/units/vec.hpp. Vectors are packed {z, y, x}, x in the low
 // W bits. One pipeline level of ru_ray_tri_robust / ru_ray_tri_mt: Stages and CutSel are
-// handed to every subtracter (see ru_ray_tri_pkg). Latency = Stages.
+// handed to every subtracter (see ru_pipe_pkg). Latency = Stages.
 module ru_ray_tri_vsub #(
   parameter int unsigned ExpW = 8,
   parameter int unsigned FracW = 23,
   parameter int unsigned Subnormals = 1,
   parameter int unsigned Round = 0,
   parameter int unsigned Stages = 0,
-  parameter logic [63:0] CutSel = 64'h8000_0000_0000_0000
+  parameter logic [ru_pipe_pkg::MaxSeg:0] CutSel = ru_pipe_pkg::AutoCuts
 ) (
   input  logic                        clk_i,
   input  logic                        rst_ni,

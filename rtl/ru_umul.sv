@@ -11,7 +11,7 @@
 module ru_umul #(
   parameter int unsigned N = 24,
   parameter int unsigned AuxW = 1,
-  parameter logic [63:0] CutMask = '0
+  parameter logic [ru_pipe_pkg::MaxSeg:0] CutMask = '0
 ) (
   input  logic            clk_i,
   input  logic            rst_ni,
@@ -59,7 +59,7 @@ module ru_umul #(
       if (RI % 3 != 0) begin : gen_pass
         assign d[R*PW-1:2*G*PW] = in[RI*PW-1:3*G*PW];
       end
-      ru_fp_pipe #(
+      ru_pipe #(
         .Width(R * PW + AuxW),
         .Depth(CutMask[k-1] ? 1 : 0)
       ) u_cut (
@@ -76,7 +76,7 @@ module ru_umul #(
   logic [PW-1:0] p;
   assign p = gen_lvl[L].rows[PW-1:0] + gen_lvl[L].rows[2*PW-1:PW];
 
-  ru_fp_pipe #(
+  ru_pipe #(
     .Width(PW + AuxW),
     .Depth(CutMask[L] ? 1 : 0)
   ) u_cut_p (
