@@ -6,6 +6,7 @@
 
 #include "cli_util.hpp"
 #include "command.hpp"
+#include "studies.hpp"
 #include "rayunits/units/study.hpp"
 #include "rayunits/units/synthetic.hpp"
 #include "rayunits/units/trace.hpp"
@@ -23,30 +24,38 @@ int run_study_box(int argc, char** argv) {
       "rounding) against the exact slab test on the same format-rounded inputs, per exponent/fraction "
       "width. Counts are per million ray-box pairs. Also writes a CSV.",
       "rayunits study box"};
-  std::string trace_file, write_trace_file, csv = "study_box.csv", exp_text = "7", frac_text = "7:23";
-  size_t synthetic = 0, limit = 0;
-  uint64_t seed = 1;
-  double scale = 1.0;
-  int threads = 2, max_width = 32;
-  bool ftz = false, quiet = false;
-  app.add_option("--trace", trace_file, "binary trace (docs/UNITS.md); its box records are used");
-  app.add_option("--synthetic", synthetic, "use N synthetic ray-box pairs (default 20000 when no --trace)");
-  app.add_option("--seed", seed, "seed of the synthetic trace")->capture_default_str();
-  app.add_option("--scale", scale, "scale of the synthetic scene")->capture_default_str();
-  app.add_option("--write-trace", write_trace_file, "also write the synthetic trace to this file");
-  app.add_option("--limit", limit, "use only the first N records");
-  app.add_option("--exp", exp_text, "exponent bits LO:HI")->capture_default_str();
-  app.add_option("--frac", frac_text, "fraction bits LO:HI")->capture_default_str();
-  app.add_option("--max-width", max_width, "skip formats wider than this")->capture_default_str();
-  app.add_flag("--ftz", ftz, "flush-to-zero formats");
-  app.add_option("--threads", threads, "worker threads")->capture_default_str()->check(CLI::Range(1, 64));
-  app.add_option("--csv", csv, "CSV output file")->capture_default_str();
-  app.add_flag("--quiet", quiet, "no progress on stderr");
+  BoxStudyArgs a;
+  app.add_option("--trace", a.trace_file, "binary trace (docs/UNITS.md); its box records are used");
+  app.add_option("--synthetic", a.synthetic, "use N synthetic ray-box pairs (default 20000 when no --trace)");
+  app.add_option("--seed", a.seed, "seed of the synthetic trace")->capture_default_str();
+  app.add_option("--scale", a.scale, "scale of the synthetic scene")->capture_default_str();
+  app.add_option("--write-trace", a.write_trace_file, "also write the synthetic trace to this file");
+  app.add_option("--limit", a.limit, "use only the first N records");
+  app.add_option("--exp", a.exp_text, "exponent bits LO:HI")->capture_default_str();
+  app.add_option("--frac", a.frac_text, "fraction bits LO:HI")->capture_default_str();
+  app.add_option("--max-width", a.max_width, "skip formats wider than this")->capture_default_str();
+  app.add_flag("--ftz", a.ftz, "flush-to-zero formats");
+  app.add_option("--threads", a.threads, "worker threads")->capture_default_str()->check(CLI::Range(1, 64));
+  app.add_option("--csv", a.csv, "CSV output file")->capture_default_str();
+  app.add_flag("--quiet", a.quiet, "no progress on stderr");
   if (!parse_args(app, argc, argv)) return 0;
+  run_box_study(a, command_line("rayunits study box", argc, argv), stdout, stderr);
+  return 0;
+}
+
+}  // namespace
+
+BoxStudyRun run_box_study(const BoxStudyArgs& args, const std::string& command, std::FILE* out, std::FILE* err) {
+  std::string trace_file = args.trace_file, write_trace_file = args.write_trace_file, csv = args.csv;
+  size_t synthetic = args.synthetic, limit = args.limit;
+  const uint64_t seed = args.seed;
+  const double scale = args.scale;
+  const int threads = args.threads, max_width = args.max_width;
+  const bool ftz = args.ftz, quiet = args.quiet;
   if (!trace_file.empty() && synthetic) throw UsageError("give either --trace or --synthetic, not both");
   int elo, ehi, mlo, mhi;
-  parse_range(exp_text, "--exp", elo, ehi);
-  parse_range(frac_text, "--frac", mlo, mhi);
+  parse_range(args.exp_text, "--exp", elo, ehi);
+  parse_range(args.frac_text, "--frac", mlo, mhi);
   BoxStudyOptions opt;
   opt.formats = format_grid(elo, ehi, mlo, mhi, max_width, !ftz);
   opt.threads = threads;
@@ -78,22 +87,22 @@ int run_study_box(int argc, char** argv) {
   if (!quiet)
     opt.progress = [&](size_t done, size_t total, const BoxCell& c) {
       const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      std::fprintf(stderr, "[study box] %zu/%zu formats  (%s)  %.1f s\n", done, total, c.fmt.name().c_str(), s);
+      std::fprintf(err, "[study box] %zu/%zu formats  (%s)  %.1f s\n", done, total, c.fmt.name().c_str(), s);
     };
-  const std::vector<BoxCell> cells = study_box(recs, opt);
+  std::vector<BoxCell> cells = study_box(recs, opt);
 
-  std::printf("rayunits study box: %s\n", command_line("rayunits study box", argc, argv).c_str());
-  std::printf("source: %s; %zu records\n", source.c_str(), recs.size());
-  std::printf("per million pairs; FM = false miss (exact hit, unit missed), FH = false hit\n");
-  std::printf("%-10s %9s %8s %10s %10s %10s %10s %10s\n", "format", "pairs", "hit %", "plain FM", "plain FH",
+  std::fprintf(out, "rayunits study box: %s\n", command.c_str());
+  std::fprintf(out, "source: %s; %zu records\n", source.c_str(), recs.size());
+  std::fprintf(out, "per million pairs; FM = false miss (exact hit, unit missed), FH = false hit\n");
+  std::fprintf(out, "%-10s %9s %8s %10s %10s %10s %10s %10s\n", "format", "pairs", "hit %", "plain FM", "plain FH",
               "cons FM", "cons FH", "overflows");
   std::FILE* f = std::fopen(csv.c_str(), "w");
   if (!f) throw UsageError("cannot write " + csv);
-  std::fprintf(f, "# %s\n# %s\n", command_line("rayunits study box", argc, argv).c_str(), source.c_str());
+  std::fprintf(f, "# %s\n# %s\n", command.c_str(), source.c_str());
   std::fprintf(f, "format,exponent_bits,significand_bits,pairs,exact_hits,plain_false_miss,plain_false_hit,"
                   "cons_false_miss,cons_false_hit,overflow_ops\n");
   for (const BoxCell& c : cells) {
-    std::printf("%-10s %9llu %8.2f %10.1f %10.1f %10.1f %10.1f %10llu\n", c.fmt.name().c_str(),
+    std::fprintf(out, "%-10s %9llu %8.2f %10.1f %10.1f %10.1f %10.1f %10llu\n", c.fmt.name().c_str(),
                 static_cast<unsigned long long>(c.records), 100.0 * static_cast<double>(c.exact_hits) / static_cast<double>(c.records ? c.records : 1),
                 ppm(c.plain_false_miss, c.records), ppm(c.plain_false_hit, c.records), ppm(c.cons_false_miss, c.records),
                 ppm(c.cons_false_hit, c.records), static_cast<unsigned long long>(c.flags.overflow));
@@ -104,11 +113,10 @@ int run_study_box(int argc, char** argv) {
                  static_cast<unsigned long long>(c.cons_false_hit), static_cast<unsigned long long>(c.flags.overflow));
   }
   std::fclose(f);
-  std::printf("wrote %s\n", csv.c_str());
-  return 0;
+  std::fprintf(out, "wrote %s\n", csv.c_str());
+  return {cells, source, recs.size()};
 }
 
-}  // namespace
 
 RU_COMMAND("study box", "false misses / hits of the plain and conservative ray-box test", run_study_box);
 

@@ -18,6 +18,7 @@
 
 #include "cli_util.hpp"
 #include "command.hpp"
+#include "studies.hpp"
 #include "rayunits/units/study.hpp"
 #include "rayunits/units/synthetic.hpp"
 #include "rayunits/units/trace.hpp"
@@ -90,38 +91,49 @@ int run_study_tri(int argc, char** argv) {
       "that differ only in edge directions), sign errors of V0..2 and wrong hit decisions of ray_tri_robust "
       "and ray_tri_mt. Writes CSVs and a heat map; prints the tables.",
       "rayunits study tri"};
-  std::string trace_file, write_trace_file, out_dir = "study_tri", exp_text = "6:11", frac_text = "8:25",
-                                            ref_dir = std::string(RU_SOURCE_DIR) + "/../shared/reference";
-  size_t synthetic = 0, limit = 0;
-  uint64_t seed = 1;
-  double scale = 1.0, spread = 0.0;
-  int max_width = 32, threads = 2, rank_exp = 0;
-  bool ftz = false, no_plot = false, no_decisions = false, quiet = false;
-  app.add_option("--trace", trace_file, "binary trace (docs/UNITS.md); its tri records are used");
-  app.add_option("--synthetic", synthetic,
+  TriStudyArgs a;
+  app.add_option("--trace", a.trace_file, "binary trace (docs/UNITS.md); its tri records are used");
+  app.add_option("--synthetic", a.synthetic,
                  "use N synthetic ray-triangle pairs (random triangles about the origin, ~25 % hits); default "
                  "2048 when no --trace");
-  app.add_option("--seed", seed, "seed of the synthetic trace")->capture_default_str();
-  app.add_option("--scale", scale, "scale of the synthetic scene")->capture_default_str();
-  app.add_option("--scale-spread", spread,
+  app.add_option("--seed", a.seed, "seed of the synthetic trace")->capture_default_str();
+  app.add_option("--scale", a.scale, "scale of the synthetic scene")->capture_default_str();
+  app.add_option("--scale-spread", a.spread,
                  "synthetic: scale each packet by a random 2^u, u in [-S, S] (values over many binades)")
       ->capture_default_str();
-  app.add_option("--write-trace", write_trace_file, "also write the synthetic trace to this file");
-  app.add_option("--limit", limit, "use only the first N records");
-  app.add_option("--exp", exp_text, "exponent bits LO:HI")->capture_default_str();
-  app.add_option("--frac", frac_text, "fraction (significand) bits LO:HI")->capture_default_str();
-  app.add_option("--max-width", max_width, "skip formats wider than this (the dissertation stopped at 32)")
+  app.add_option("--write-trace", a.write_trace_file, "also write the synthetic trace to this file");
+  app.add_option("--limit", a.limit, "use only the first N records");
+  app.add_option("--exp", a.exp_text, "exponent bits LO:HI")->capture_default_str();
+  app.add_option("--frac", a.frac_text, "fraction (significand) bits LO:HI")->capture_default_str();
+  app.add_option("--max-width", a.max_width, "skip formats wider than this (the dissertation stopped at 32)")
       ->capture_default_str();
-  app.add_flag("--ftz", ftz, "flush-to-zero formats (default: subnormals)");
-  app.add_option("--threads", threads, "worker threads")->capture_default_str()->check(CLI::Range(1, 64));
-  app.add_option("--out", out_dir, "output directory for the CSVs and the PNG")->capture_default_str();
-  app.add_option("--rank-exp", rank_exp, "exponent width of the printed formula ranking (default: 8, or the "
+  app.add_flag("--ftz", a.ftz, "flush-to-zero formats (default: subnormals)");
+  app.add_option("--threads", a.threads, "worker threads")->capture_default_str()->check(CLI::Range(1, 64));
+  app.add_option("--out", a.out_dir, "output directory for the CSVs and the PNG")->capture_default_str();
+  app.add_option("--rank-exp", a.rank_exp, "exponent width of the printed formula ranking (default: 8, or the "
                                          "largest in the grid)");
-  app.add_option("--reference", ref_dir, "directory of the dissertation's tables (CSV)")->capture_default_str();
-  app.add_flag("--no-plot", no_plot, "do not run scripts/plot_study_tri.py");
-  app.add_flag("--no-decisions", no_decisions, "skip the ray_tri_robust / ray_tri_mt decision counts");
-  app.add_flag("--quiet", quiet, "no progress on stderr");
+  app.add_option("--reference", a.ref_dir, "directory of the dissertation's tables (CSV)")->capture_default_str();
+  app.add_flag("--no-plot", a.no_plot, "do not run scripts/plot_study_tri.py");
+  app.add_flag("--no-decisions", a.no_decisions, "skip the ray_tri_robust / ray_tri_mt decision counts");
+  app.add_flag("--quiet", a.quiet, "no progress on stderr");
   if (!parse_args(app, argc, argv)) return 0;
+  run_tri_study(a, command_line("rayunits study tri", argc, argv), stdout, stderr);
+  return 0;
+}
+
+}  // namespace
+
+TriStudyRun run_tri_study(const TriStudyArgs& args, const std::string& command, std::FILE* out, std::FILE* err) {
+  const std::string &trace_file = args.trace_file, &write_trace_file = args.write_trace_file,
+                    &out_dir = args.out_dir, &exp_text = args.exp_text, &frac_text = args.frac_text,
+                    &ref_dir = args.ref_dir;
+  size_t synthetic = args.synthetic;
+  const size_t limit = args.limit;
+  const uint64_t seed = args.seed;
+  const double scale = args.scale, spread = args.spread;
+  const int max_width = args.max_width, threads = args.threads;
+  int rank_exp = args.rank_exp;
+  const bool ftz = args.ftz, no_plot = args.no_plot, no_decisions = args.no_decisions, quiet = args.quiet;
   if (!trace_file.empty() && synthetic) throw UsageError("give either --trace or --synthetic, not both");
 
   int elo, ehi, mlo, mhi;
@@ -165,19 +177,19 @@ int run_study_tri(int argc, char** argv) {
   if (!quiet)
     opt.progress = [&](size_t done, size_t total, const TriCell& c) {
       const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      std::fprintf(stderr, "[study tri] %zu/%zu formats  (%s %.1f s)  %.1f s\n", done, total,
+      std::fprintf(err, "[study tri] %zu/%zu formats  (%s %.1f s)  %.1f s\n", done, total,
                    c.fmt.name().c_str(), c.seconds, s);
     };
   const TriStudy st = study_tri(recs, opt);
   const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
-  std::printf("rayunits study tri: %s\n", command_line("rayunits study tri", argc, argv).c_str());
-  std::printf("source: %s; %zu records used, %zu skipped (non-finite); exact hits %zu (%.1f %%)\n", source.c_str(),
+  std::fprintf(out, "rayunits study tri: %s\n", command.c_str());
+  std::fprintf(out, "source: %s; %zu records used, %zu skipped (non-finite); exact hits %zu (%.1f %%)\n", source.c_str(),
               st.records, st.skipped, st.exact_hits,
               st.records ? 100.0 * static_cast<double>(st.exact_hits) / static_cast<double>(st.records) : 0.0);
-  std::printf("formats: %zu (exp %d..%d, frac %d..%d, width <= %d%s); %.1f s on %d threads\n", opt.formats.size(), elo,
+  std::fprintf(out, "formats: %zu (exp %d..%d, frac %d..%d, width <= %d%s); %.1f s on %d threads\n", opt.formats.size(), elo,
               ehi, mlo, mhi, max_width, ftz ? ", flush-to-zero" : "", secs, threads);
-  std::printf("exactly zero (left out of that volume's average): V %llu, Va %llu, V0..2 %llu\n",
+  std::fprintf(out, "exactly zero (left out of that volume's average): V %llu, Va %llu, V0..2 %llu\n",
               static_cast<unsigned long long>(st.exact_zero[0]), static_cast<unsigned long long>(st.exact_zero[1]),
               static_cast<unsigned long long>(st.exact_zero[2] + st.exact_zero[3] + st.exact_zero[4]));
 
@@ -203,7 +215,7 @@ int run_study_tri(int argc, char** argv) {
   std::FILE* ff = std::fopen(formulas_csv.c_str(), "w");
   std::FILE* fs = std::fopen(signs_csv.c_str(), "w");
   if (!ft || !ff || !fs) throw UsageError("cannot write the CSVs in " + out_dir);
-  std::fprintf(ft, "# %s\n# %s\n", command_line("rayunits study tri", argc, argv).c_str(), source.c_str());
+  std::fprintf(ft, "# %s\n# %s\n", command.c_str(), source.c_str());
   std::fprintf(ft,
                "significand_bits,exponent_bits,volume,avg_rel_error,dissertation_avg_rel_error,best_formula,"
                "worst_over_best,known_formula,known_rank,known_avg_rel_error,inf_results,nan_results\n");
@@ -258,13 +270,13 @@ int run_study_tri(int argc, char** argv) {
 
   // ---- printed tables (shape of Tables 3.2-3.4: rows = significand bits, columns = exponent bits)
   for (int k = 0; k < 3; ++k) {
-    std::printf("\n%s: lowest average relative error over all formulations (this run%s)\n", titles[k],
+    std::fprintf(out, "\n%s: lowest average relative error over all formulations (this run%s)\n", titles[k],
                 have_ref ? "; [dissertation] in brackets" : "");
-    std::printf("%4s", "M\\E");
-    for (int e = elo; e <= ehi; ++e) std::printf(" %*d", have_ref ? 23 : 11, e);
-    std::printf("\n");
+    std::fprintf(out, "%4s", "M\\E");
+    for (int e = elo; e <= ehi; ++e) std::fprintf(out, " %*d", have_ref ? 23 : 11, e);
+    std::fprintf(out, "\n");
     for (int m = mlo; m <= mhi; ++m) {
-      std::printf("%4d", m);
+      std::fprintf(out, "%4d", m);
       for (int e = elo; e <= ehi; ++e) {
         auto it = cell.find({m, e});
         std::string s;
@@ -273,16 +285,16 @@ int run_study_tri(int argc, char** argv) {
           auto rf = ref[k].find({m, e});
           s += rf == ref[k].end() ? std::string(12, ' ') : " [" + sci(rf->second) + "]";
         }
-        std::printf(" %*s", have_ref ? 23 : 11, s.c_str());
+        std::fprintf(out, " %*s", have_ref ? 23 : 11, s.c_str());
       }
-      std::printf("\n");
+      std::fprintf(out, "\n");
     }
   }
 
   // ---- formula search at rank_exp
-  std::printf("\nFormula search at %d exponent bits: rank of the dissertation's formulas among the classes "
+  std::fprintf(out, "\nFormula search at %d exponent bits: rank of the dissertation's formulas among the classes "
               "(V: 9, Va: 48, V0..2: 9; 1 = best) and worst/best error ratio\n", rank_exp);
-  std::printf("%4s %8s %10s %8s %10s %8s %8s %10s %9s\n", "M", "Eq3.3", "V w/b", "Eq3.4", "Va w/b", "Eq3.5",
+  std::fprintf(out, "%4s %8s %10s %8s %10s %8s %8s %10s %9s\n", "M", "Eq3.3", "V w/b", "Eq3.4", "Va w/b", "Eq3.5",
               "Eq3.6", "V012 w/b", "MT V,Va");
   const int cmv = known_formula_class(KnownFormula::MtV), cmva = known_formula_class(KnownFormula::MtVa);
   for (int m = mlo; m <= mhi; ++m) {
@@ -296,7 +308,7 @@ int run_study_tri(int argc, char** argv) {
       const double b = c.cls[k][r[k].order.front()].avg();
       wb[k] = b > 0 ? c.cls[k][r[k].order.back()].avg() / b : 0;
     }
-    std::printf("%4d %8d %10.1f %8d %10.1f %8d %8d %10.1f %4d,%-4d\n", m, r[0].rank[known_formula_class(KnownFormula::Eq33)],
+    std::fprintf(out, "%4d %8d %10.1f %8d %10.1f %8d %8d %10.1f %4d,%-4d\n", m, r[0].rank[known_formula_class(KnownFormula::Eq33)],
                 wb[0], r[1].rank[known_formula_class(KnownFormula::Eq34)], wb[1], r[2].rank[c35], r[2].rank[c36], wb[2],
                 r[0].rank[cmv], r[1].rank[cmva]);
   }
@@ -307,20 +319,20 @@ int run_study_tri(int argc, char** argv) {
       for (int k = 0; k < 3; ++k) {
         const VolKind kind = static_cast<VolKind>(k);
         const Ranked r = rank_classes(it->second->cls[k]);
-        std::printf("\nRanking of the %s formulations at e%dm%d (one line per class; equivalent members differ only in "
+        std::fprintf(out, "\nRanking of the %s formulations at e%dm%d (one line per class; equivalent members differ only in "
                     "edge directions):\n", vol_kind_name(kind), rank_exp, mid);
         const int show = static_cast<int>(r.order.size());
         for (int i = 0; i < show; ++i) {
           const int cl = r.order[i];
           if (kind == VolKind::Va && i >= 6 && i < show - 3) {
-            if (i == 6) std::printf("  ... (%d more)\n", show - 9);
+            if (i == 6) std::fprintf(out, "  ... (%d more)\n", show - 9);
             continue;
           }
           std::string tag;
           for (KnownFormula kf : {KnownFormula::Eq33, KnownFormula::Eq34, KnownFormula::Eq35, KnownFormula::Eq36,
                                   KnownFormula::MtV, KnownFormula::MtVa})
             if (known_formula_kind(kf) == kind && known_formula_class(kf) == cl) tag += std::string("  <- ") + known_formula_name(kf);
-          std::printf("  %2d. %-44s %s%s\n", r.rank[cl], stp_class_reps(kind)[cl].text(kind).c_str(),
+          std::fprintf(out, "  %2d. %-44s %s%s\n", r.rank[cl], stp_class_reps(kind)[cl].text(kind).c_str(),
                       sci(it->second->cls[k][cl].avg()).c_str(), tag.c_str());
         }
       }
@@ -328,28 +340,28 @@ int run_study_tri(int argc, char** argv) {
   }
 
   // ---- sign errors and decisions at rank_exp
-  std::printf("\nSign errors of V0..2 at %d exponent bits (out of %zu volumes; dissertation §3.9 at e7m24: 2 and 4 "
+  std::fprintf(out, "\nSign errors of V0..2 at %d exponent bits (out of %zu volumes; dissertation §3.9 at e7m24: 2 and 4 "
               "for Eq. 3.5/3.6, 237 for the worst formula)\n", rank_exp, 3 * st.records);
-  std::printf("%4s %8s %8s %8s %8s %8s | %s\n", "M", "Eq3.5", "Eq3.6", "Fig3.6", "best", "worst",
+  std::fprintf(out, "%4s %8s %8s %8s %8s %8s | %s\n", "M", "Eq3.5", "Eq3.6", "Fig3.6", "best", "worst",
               opt.decisions ? "wrong hit decisions vs exact: robust FH/FM, MT FH/FM" : "");
   for (int m = mlo; m <= mhi; ++m) {
     auto it = cell.find({m, rank_exp});
     if (it == cell.end()) continue;
     const TriCell& c = *it->second;
     const Ranked r = rank_classes(c.cls[2]);
-    std::printf("%4d %8llu %8llu %8llu %8llu %8llu |", m, static_cast<unsigned long long>(c.cls[2][c35].sign_err),
+    std::fprintf(out, "%4d %8llu %8llu %8llu %8llu %8llu |", m, static_cast<unsigned long long>(c.cls[2][c35].sign_err),
                 static_cast<unsigned long long>(c.cls[2][c36].sign_err),
                 static_cast<unsigned long long>(c.fig36.sign_err),
                 static_cast<unsigned long long>(c.cls[2][r.order.front()].sign_err),
                 static_cast<unsigned long long>(c.cls[2][r.order.back()].sign_err));
     if (opt.decisions)
-      std::printf(" %6llu/%-6llu %6llu/%-6llu", static_cast<unsigned long long>(c.robust_false_hit),
+      std::fprintf(out, " %6llu/%-6llu %6llu/%-6llu", static_cast<unsigned long long>(c.robust_false_hit),
                   static_cast<unsigned long long>(c.robust_false_miss), static_cast<unsigned long long>(c.mt_false_hit),
                   static_cast<unsigned long long>(c.mt_false_miss));
-    std::printf("\n");
+    std::fprintf(out, "\n");
   }
 
-  std::printf("\nwrote %s, %s, %s\n", tables_csv.c_str(), formulas_csv.c_str(), signs_csv.c_str());
+  std::fprintf(out, "\nwrote %s, %s, %s\n", tables_csv.c_str(), formulas_csv.c_str(), signs_csv.c_str());
   if (!no_plot) {
     const std::string png = out_dir + "/study_tri.png";
     // Debian's python3 has python3-matplotlib; a pyenv python3 earlier in PATH may not.
@@ -357,15 +369,14 @@ int run_study_tri(int argc, char** argv) {
     const std::string cmd = py + " '" + std::string(RU_SOURCE_DIR) + "/scripts/plot_study_tri.py' '" + tables_csv +
                             "' '" + png + "'";
     if (std::system(cmd.c_str()) == 0)
-      std::printf("wrote %s\n", png.c_str());
+      std::fprintf(out, "wrote %s\n", png.c_str());
     else
-      std::fprintf(stderr, "rayunits study tri: warning: the heat map was not drawn (%s failed; python3-matplotlib "
+      std::fprintf(err, "rayunits study tri: warning: the heat map was not drawn (%s failed; python3-matplotlib "
                            "missing?)\n", cmd.c_str());
   }
-  return 0;
+  return {st, source};
 }
 
-}  // namespace
 
 RU_COMMAND("study tri", "error study of the signed volumes vs exact rationals (Tables 3.2-3.4)", run_study_tri);
 

@@ -6,6 +6,7 @@
 
 #include "cli_util.hpp"
 #include "command.hpp"
+#include "studies.hpp"
 #include "rayunits/units/mesh.hpp"
 #include "rayunits/units/watertight.hpp"
 
@@ -23,27 +24,36 @@ int run_watertight_cmd(int argc, char** argv) {
       "and double hits (two or more triangles hit). Edge and vertex rays are reported separately. The "
       "last line is 'leaks=L double_hits=D rays=N'.",
       "rayunits study watertight"};
-  std::string scene, mesh_file, format = "e8m23", tri = "robust", csv;
-  size_t rays = 10000;
-  uint64_t seed = 1;
-  int threads = 2;
-  bool tie_break = false, quiet = false;
+  WatertightArgs a;
   auto* g = app.add_option_group("mesh", "one of");
-  g->add_option("--scene", scene, std::string("built-in closed mesh: ") + builtin_mesh_names());
-  g->add_option("--mesh", mesh_file, "closed mesh file (OBJ, OFF, PLY, STL, ...)");
+  g->add_option("--scene", a.scene, std::string("built-in closed mesh: ") + builtin_mesh_names());
+  g->add_option("--mesh", a.mesh_file, "closed mesh file (OBJ, OFF, PLY, STL, ...)");
   g->require_option(1);
-  app.add_option("--format", format, "number format eXmY[-ftz] (e8m23 runs as native float, e11m52 as double)")
+  app.add_option("--format", a.format, "number format eXmY[-ftz] (e8m23 runs as native float, e11m52 as double)")
       ->capture_default_str();
-  app.add_option("--tri", tri, "robust (Kensler Fig. 3.6) or mt (Moller-Trumbore)")
+  app.add_option("--tri", a.tri, "robust (Kensler Fig. 3.6) or mt (Moller-Trumbore)")
       ->check(CLI::IsMember({"robust", "mt"}))
       ->capture_default_str();
-  app.add_option("--rays", rays, "number of rays (half edge, half vertex rays)")->capture_default_str();
-  app.add_option("--seed", seed, "random seed")->capture_default_str();
-  app.add_option("--threads", threads, "worker threads")->capture_default_str()->check(CLI::Range(1, 64));
-  app.add_flag("--tie-break", tie_break, "robust: enable Fig. 3.6's optional zero-volume tie-break");
-  app.add_option("--csv", csv, "append one result row to this CSV file (header written if new)");
-  app.add_flag("--quiet", quiet, "no progress on stderr");
+  app.add_option("--rays", a.rays, "number of rays (half edge, half vertex rays)")->capture_default_str();
+  app.add_option("--seed", a.seed, "random seed")->capture_default_str();
+  app.add_option("--threads", a.threads, "worker threads")->capture_default_str()->check(CLI::Range(1, 64));
+  app.add_flag("--tie-break", a.tie_break, "robust: enable Fig. 3.6's optional zero-volume tie-break");
+  app.add_option("--csv", a.csv, "append one result row to this CSV file (header written if new)");
+  app.add_flag("--quiet", a.quiet, "no progress on stderr");
   if (!parse_args(app, argc, argv)) return 0;
+  run_watertight_study(a, stdout, stderr);
+  return 0;
+}
+
+}  // namespace
+
+WatertightRun run_watertight_study(const WatertightArgs& args, std::FILE* out, std::FILE* err) {
+  const std::string &scene = args.scene, &mesh_file = args.mesh_file, &format = args.format, &tri = args.tri,
+                    &csv = args.csv;
+  const size_t rays = args.rays;
+  const uint64_t seed = args.seed;
+  const int threads = args.threads;
+  const bool tie_break = args.tie_break, quiet = args.quiet;
   if (rays < 2) throw UsageError("--rays must be at least 2");
 
   WatertightOptions opt;
@@ -59,7 +69,7 @@ int run_watertight_cmd(int argc, char** argv) {
     opt.progress = [&](size_t done, size_t total) {
       if (done * 10 / total != last * 10 / total || done == total) {
         const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        std::fprintf(stderr, "[study watertight] %zu/%zu rays  %.1f s\n", done, total, s);
+        std::fprintf(err, "[study watertight] %zu/%zu rays  %.1f s\n", done, total, s);
       }
       last = done;
     };
@@ -67,21 +77,21 @@ int run_watertight_cmd(int argc, char** argv) {
   const WatertightResult r = run_watertight(mesh, opt);
   const auto tot = r.total();
 
-  std::printf("scene %s: %zu vertices, %zu triangles, closed; format %s; ray_tri_%s%s; seed %llu\n",
+  std::fprintf(out, "scene %s: %zu vertices, %zu triangles, closed; format %s; ray_tri_%s%s; seed %llu\n",
               mesh.name.c_str(), r.vertices, r.triangles, opt.fmt.name().c_str(), tri.c_str(),
               tie_break ? " (tie-break)" : "", static_cast<unsigned long long>(seed));
-  std::printf("rays: %zu through shared edges (%zu exactly on the edge, %zu within rounding of it), "
+  std::fprintf(out, "rays: %zu through shared edges (%zu exactly on the edge, %zu within rounding of it), "
               "%zu through shared vertices\n",
               r.edge.rays, r.edge.rays - r.near_edge_rays, r.near_edge_rays, r.vertex.rays);
-  std::printf("%-8s %10s %8s %12s %12s %12s\n", "", "rays", "leaks", "double_hits", "leaks/Mray", "double/Mray");
+  std::fprintf(out, "%-8s %10s %8s %12s %12s %12s\n", "", "rays", "leaks", "double_hits", "leaks/Mray", "double/Mray");
   auto row = [&](const char* name, const WatertightCounts& c) {
-    std::printf("%-8s %10zu %8zu %12zu %12.0f %12.0f\n", name, c.rays, c.leaks, c.double_hits,
+    std::fprintf(out, "%-8s %10zu %8zu %12zu %12.0f %12.0f\n", name, c.rays, c.leaks, c.double_hits,
                 per_million(c.leaks, c.rays), per_million(c.double_hits, c.rays));
   };
   row("edge", r.edge);
   row("vertex", r.vertex);
   row("all", tot);
-  std::printf("exact check: %zu rays hit nothing in exact arithmetic (must be 0); %zu rays aimed only "
+  std::fprintf(out, "exact check: %zu rays hit nothing in exact arithmetic (must be 0); %zu rays aimed only "
               "within rounding; candidates/ray %.1f; rays with overflow: %zu\n",
               r.exact_misses, r.inexact_aim, r.candidates_per_ray, r.overflow_rays);
   if (!csv.empty()) {
@@ -99,11 +109,10 @@ int run_watertight_cmd(int argc, char** argv) {
                  r.vertex.double_hits, r.near_edge_rays, r.exact_misses, r.overflow_rays);
     std::fclose(f);
   }
-  std::printf("leaks=%zu double_hits=%zu rays=%zu\n", tot.leaks, tot.double_hits, tot.rays);
-  return 0;
+  std::fprintf(out, "leaks=%zu double_hits=%zu rays=%zu\n", tot.leaks, tot.double_hits, tot.rays);
+  return {mesh.name, opt.fmt.name(), r};
 }
 
-}  // namespace
 
 RU_COMMAND("study watertight", "leaks / double hits of the ray-triangle units on closed meshes", run_watertight_cmd);
 

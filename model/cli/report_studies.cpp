@@ -1,14 +1,12 @@
-// Report sections that run the project's own commands: synthesis (issue 3 section 5),
-// intersection (issue 4 section 6) and noise (issue 5 section 6).
+// Report sections built from the project's studies: synthesis (issue 3 section 5), intersection
+// (issue 4 section 6) and noise (issue 5 section 6).
 //
-// Each section runs registered subcommands in-process with the arguments a user would type
-// (the same code path as the command line, not a second copy of the study), captures their
-// stdout into a text file of the report, and builds its Markdown from the CSV files they wrote.
-// The command lines are printed in the report relative to the report directory, so every
-// table can be reproduced with `cd REPORT && rayunits ...`.
-#include <fcntl.h>
-#include <unistd.h>
-
+// Each section calls the function its command calls (synth::run_sweep_rows, run_tri_study,
+// run_box_study, run_watertight_study in model/cli/studies.hpp, noise::run_study_result) with the
+// options that the command line shown in the report sets, and builds its tables from the typed
+// results. A study's printout (what the command prints) is kept as a text file of the report.
+// The command lines are printed relative to the report directory, so every table can be
+// reproduced with `cd REPORT && rayunits ...`.
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -20,7 +18,11 @@
 
 #include "cli_util.hpp"
 #include "command.hpp"
+#include "rayunits/noise/study.hpp"
 #include "rayunits/report/report.hpp"
+#include "rayunits/synth/process.hpp"
+#include "rayunits/synth/sweep.hpp"
+#include "studies.hpp"
 
 namespace ru::cli {
 namespace {
@@ -29,15 +31,10 @@ using ru::report::Context;
 using ru::report::ReportError;
 using Table = std::vector<std::vector<std::string>>;
 
-// ---- running a subcommand -----------------------------------------------------------------
+// ---- calling the studies ----------------------------------------------------------------------
 
-const Command& find_command(const std::string& name) {
-  for (const auto& c : commands())
-    if (name == c.name) return c;
-  throw ReportError("internal: no command '" + name + "'");
-}
-
-// The command line as shown in the report: paths inside the report directory made relative.
+// The command line as shown in the report (and recorded by the studies): paths inside the
+// report directory made relative, so `cd REPORT && <line>` reproduces the table.
 std::string shown(const Context& ctx, const std::string& cmd, const std::vector<std::string>& args) {
   const std::string dir = ctx.dir.string() + "/";
   std::vector<std::string> rel{cmd};
@@ -50,133 +47,66 @@ std::string shown(const Context& ctx, const std::string& cmd, const std::vector<
   return command_line(("rayunits " + cmd).c_str(), static_cast<int>(av.size()), av.data());
 }
 
-// Paths inside the (temporary) report directory made relative in a file the commands wrote
-// (they print their own command lines and output paths).
-void relativize_file(const Context& ctx, const std::filesystem::path& p) {
-  std::string text;
-  {
-    std::ifstream f(p);
-    std::stringstream ss;
-    ss << f.rdbuf();
-    text = ss.str();
-  }
+std::string relative(const Context& ctx, std::string text) {
   const std::string dir = ctx.dir.string() + "/";
-  bool changed = false;
-  for (size_t q; (q = text.find(dir)) != std::string::npos; changed = true) text.erase(q, dir.size());
-  if (changed) std::ofstream(p, std::ios::trunc) << text;
+  for (size_t q; (q = text.find(dir)) != std::string::npos;) text.erase(q, dir.size());
+  return text;
 }
 
-// Runs `rayunits <cmd> args...` with stdout redirected into ctx.path(txt). Throws ReportError
-// with the command's own error line on failure. Returns the command line for the report.
-std::string run_captured(Context& ctx, const std::string& cmd, std::vector<std::string> args,
-                         const std::string& txt) {
-  const Command& c = find_command(cmd);
-  const std::string line = shown(ctx, cmd, args);
-  ctx.progress(line);
-  const std::string last_word = cmd.substr(cmd.rfind(' ') + 1);
-  std::vector<char*> av{const_cast<char*>(last_word.c_str())};
-  for (auto& a : args) av.push_back(a.data());
-  av.push_back(nullptr);
+void write_text(const std::filesystem::path& p, const std::string& text) {
+  std::ofstream f(p, std::ios::trunc);
+  f << text;
+  if (!f) throw ReportError("cannot write " + p.string());
+}
 
-  // stdout -> <txt>; with --quiet also stderr (the command's progress) -> <txt minus .txt>.log
-  const std::string log = txt.substr(0, txt.rfind('.')) + ".log";
-  std::fflush(stdout);
-  std::fflush(stderr);
-  const int fd = ::open(ctx.path(txt).c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  if (fd < 0) throw ReportError("cannot write " + ctx.path(txt).string());
-  const int saved = ::dup(1);
-  ::dup2(fd, 1);
-  ::close(fd);
-  int saved_err = -1;
-  if (ctx.opts.quiet) {
-    const int efd = ::open(ctx.path(log).c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (efd >= 0) {
-      saved_err = ::dup(2);
-      ::dup2(efd, 2);
-      ::close(efd);
+// A study's printout (what the command prints on stdout) into <txt>, paths relative to the
+// report; its warnings into <txt minus .txt>.log with --quiet, else on stderr.
+class Printout {
+ public:
+  Printout(Context& ctx, std::string txt) : ctx_(ctx), txt_(std::move(txt)) {
+    out = open_memstream(&buf_, &len_);
+    if (!out) throw ReportError("cannot capture the printout of " + txt_);
+    if (ctx.opts.quiet) {
+      const std::string log = txt_.substr(0, txt_.rfind('.')) + ".log";
+      err = std::fopen(ctx.path(log).c_str(), "w");
+      if (!err) throw ReportError("cannot write " + ctx.path(log).string());
     }
   }
-  int rc = 0;
-  std::string err;
-  try {
-    rc = c.run(static_cast<int>(av.size()) - 1, av.data());
-  } catch (const std::exception& e) {
-    err = e.what();
-    rc = 2;
+  ~Printout() {
+    if (out) std::fclose(out);
+    std::free(buf_);
+    if (err != stderr) std::fclose(err);
   }
-  std::fflush(stdout);
-  std::fflush(stderr);
-  ::dup2(saved, 1);
-  ::close(saved);
-  if (saved_err >= 0) {
-    ::dup2(saved_err, 2);
-    ::close(saved_err);
+  // Writes <txt>; returns its text.
+  std::string finish() {
+    std::fclose(out);
+    out = nullptr;
+    const std::string text = relative(ctx_, std::string(buf_, len_));
+    write_text(ctx_.path(txt_), text);
+    std::fflush(err);
+    return text;
   }
-  if (rc != 0 && err.empty() && saved_err >= 0) {  // its own error line went to the log
-    std::ifstream f(ctx.path(log));
-    for (std::string l; std::getline(f, l);)
-      if (!l.empty()) err = l;
-  }
-  if (rc != 0)
-    throw ReportError(line + " failed" + (err.empty() ? " (exit " + std::to_string(rc) + ")" : ": " + err));
-  relativize_file(ctx, ctx.path(txt));
-  return line;
-}
+  std::FILE* out = nullptr;
+  std::FILE* err = stderr;
 
-// ---- reading what the commands wrote --------------------------------------------------------
-
-struct Csv {
-  std::vector<std::string> header;
-  std::vector<std::map<std::string, std::string>> rows;
+ private:
+  Context& ctx_;
+  std::string txt_;
+  char* buf_ = nullptr;
+  size_t len_ = 0;
 };
 
-std::vector<std::string> split_csv_line(const std::string& line) {
-  std::vector<std::string> out;
-  std::string cur;
-  bool quoted = false;
-  for (char ch : line) {
-    if (ch == '"') {
-      quoted = !quoted;
-    } else if (ch == ',' && !quoted) {
-      out.push_back(cur);
-      cur.clear();
-    } else if (ch != '\r') {
-      cur += ch;
-    }
+// Runs fn() (a study); a failure becomes the report's one-line error naming the command.
+template <class F>
+auto call(const std::string& line, F&& fn) -> decltype(fn()) {
+  try {
+    return fn();
+  } catch (const std::exception& e) {
+    throw ReportError(line + " failed: " + e.what());
   }
-  out.push_back(cur);
-  return out;
 }
 
-// Reads a CSV with a header line; lines starting with '#' are comments.
-Csv read_csv(const std::filesystem::path& p) {
-  std::ifstream f(p);
-  if (!f) throw ReportError("cannot read " + p.string());
-  Csv c;
-  for (std::string line; std::getline(f, line);) {
-    if (line.empty() || line[0] == '#') continue;
-    auto cells = split_csv_line(line);
-    if (c.header.empty()) {
-      c.header = cells;
-      continue;
-    }
-    std::map<std::string, std::string> row;
-    for (size_t i = 0; i < c.header.size() && i < cells.size(); ++i) row[c.header[i]] = cells[i];
-    c.rows.push_back(std::move(row));
-  }
-  if (c.header.empty()) throw ReportError(p.string() + " is empty");
-  return c;
-}
-
-std::string get(const std::map<std::string, std::string>& row, const std::string& key) {
-  auto it = row.find(key);
-  return it == row.end() ? std::string() : it->second;
-}
-
-double num(const std::map<std::string, std::string>& row, const std::string& key) {
-  const std::string s = get(row, key);
-  return s.empty() ? std::nan("") : std::atof(s.c_str());
-}
+// ---- values -------------------------------------------------------------------------------------
 
 std::string fmt(const char* f, double v) {
   if (std::isnan(v)) return "-";
@@ -185,23 +115,30 @@ std::string fmt(const char* f, double v) {
   return b;
 }
 
-std::string read_text(const std::filesystem::path& p) {
-  std::ifstream f(p);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
 std::string code_block(const std::string& cmd) { return "```sh\n" + cmd + "\n```\n\n"; }
 
-std::string threads_arg(const Context& ctx) { return std::to_string(std::max(1u, std::min(ctx.threads(), 64u))); }
+int threads_of(const Context& ctx) { return static_cast<int>(std::max(1u, std::min(ctx.threads(), 64u))); }
+std::string threads_arg(const Context& ctx) { return std::to_string(threads_of(ctx)); }
 
 // Which tool steps a sweep runs (Xilinx never: the report does not show it).
 enum class Flow { Generic, Ice40Luts, Ice40Fmax };
 
-// Runs `rayunits synth-sweep` into <dir>/<sub>; returns the command line.
-std::string run_sweep(Context& ctx, const std::string& sub, const std::string& units, const std::string& formats,
-                      const std::string& stages, Flow flow, bool plot = true) {
+struct Sweep {
+  std::string cmd;                    // the command line that reproduces it
+  std::vector<synth::SweepRow> rows;  // in the order of synth_sweep.csv
+  // area of "unit format stages" (format "" for units without one); NaN if missing or failed
+  double area(const std::string& unit, const std::string& format, int stages) const {
+    for (const auto& r : rows)
+      if (r.unit == unit && r.format == format && r.stages == stages) return r.error.empty() ? r.area_nand2 : std::nan("");
+    return std::nan("");
+  }
+};
+
+
+// `rayunits synth-sweep` into <dir>/<sub> (synth::run_sweep_rows, as the command runs it); the
+// progress goes to <sub>.log with --quiet, else to stderr; <sub>.txt is its (empty) printout.
+Sweep run_sweep(Context& ctx, const std::string& sub, const std::string& units, const std::string& formats,
+                const std::string& stages, Flow flow, bool plot = true) {
   std::vector<std::string> a{"--out", ctx.path(sub).string(), "--units", units, "--stages", stages, "-j",
                              threads_arg(ctx)};
   if (!formats.empty()) a.insert(a.end(), {"--formats", formats});
@@ -209,28 +146,63 @@ std::string run_sweep(Context& ctx, const std::string& sub, const std::string& u
   if (flow != Flow::Generic) a.push_back("--no-xilinx");
   if (flow == Flow::Ice40Fmax) a.push_back("--fpga");
   if (!ctx.opts.plots || !plot) a.push_back("--no-plot");
-  return run_captured(ctx, "synth-sweep", a, sub + ".txt");
+  Sweep s;
+  s.cmd = shown(ctx, "synth-sweep", a);
+  ctx.progress(s.cmd);
+
+  // the options the command line above sets (cmd_synth_sweep.cpp, synth_options.hpp)
+  synth::SweepOptions so;
+  so.command = "rayunits synth-sweep";
+  for (const auto& x : a) so.command += " " + x;
+  so.out_dir = ctx.path(sub).string();
+  so.units = split_list(units);
+  if (!formats.empty()) so.formats = split_list(formats);
+  so.stages = split_list(stages);
+  so.jobs = threads_of(ctx);
+  if (flow == Flow::Generic) so.flow.ice40 = so.flow.pnr = false;
+  so.flow.xilinx = false;
+  if (flow == Flow::Ice40Fmax) so.flow.ice40 = so.flow.pnr = true;
+  so.plot = ctx.opts.plots && plot;
+
+  Printout p(ctx, sub + ".txt");
+  synth::install_interrupt_handler();
+  const synth::SweepResult r = call(s.cmd, [&] {
+    return synth::run_sweep_rows(so, [&](const std::string& m) {
+      std::fprintf(p.err, "%s\n", m.c_str());
+      std::fflush(p.err);
+    });
+  });
+  p.finish();
+  if (r.failed > 0)
+    throw ReportError(s.cmd + " failed: rayunits synth-sweep: error: " + std::to_string(r.failed) +
+                      " point(s) failed (rows with \"error\" in " + so.out_dir + "/synth_sweep.json)");
+  s.rows = r.rows;
+  return s;
 }
 
-// The sweep's rows keyed by "unit format stages" (format "" for units without one).
-std::map<std::string, std::map<std::string, std::string>> sweep_rows(const Context& ctx, const std::string& sub) {
-  std::map<std::string, std::map<std::string, std::string>> m;
-  for (auto& r : read_csv(ctx.path(sub) / "synth_sweep.csv").rows)
-    m[get(r, "unit") + " " + get(r, "format") + " " + get(r, "stages")] = r;
+std::vector<std::string> synth_cells(const synth::SweepRow& r) {
+  const std::string luts = !r.ice40_run   ? "-"
+                           : r.ice40_fits ? std::to_string(r.ice40_luts)
+                                          : std::to_string(r.ice40_luts) + " (does not fit)";
+  return {fmt("%.0f", r.area_nand2), std::to_string(r.reg_bits), std::to_string(r.depth), fmt("%.0f", r.fmax_est_mhz),
+          luts, r.ice40_fits ? fmt("%.1f", r.ice40_fmax_mhz) : "-"};
+}
+
+// The accuracy section's rows (format, op) -> {mean_rel_err, max_rel_err, out_of_range}, read
+// from the accuracy.csv it wrote into this report (fixed columns, no quoted fields).
+std::map<std::string, std::vector<std::string>> accuracy_rows(const Context& ctx) {
+  std::map<std::string, std::vector<std::string>> m;
+  std::ifstream f(ctx.path("accuracy.csv"));
+  std::string line;
+  std::getline(f, line);  // header
+  while (std::getline(f, line)) {
+    std::vector<std::string> c;
+    std::stringstream in(line);
+    for (std::string x; std::getline(in, x, ',');) c.push_back(x);
+    if (c.size() < 11) continue;
+    m[c[2] + " " + c[3]] = {c[6], c[7], c[10]};
+  }
   return m;
-}
-
-double area_of(const std::map<std::string, std::map<std::string, std::string>>& rows, const std::string& key) {
-  auto it = rows.find(key);
-  if (it == rows.end() || !get(it->second, "error").empty()) return std::nan("");
-  return num(it->second, "area_nand2");
-}
-
-std::vector<std::string> synth_cells(const std::map<std::string, std::string>& r) {
-  const bool ran = !get(r, "ice40_luts").empty(), fits = get(r, "ice40_fits") == "1";
-  const std::string luts = !ran ? "-" : fits ? get(r, "ice40_luts") : get(r, "ice40_luts") + " (does not fit)";
-  return {fmt("%.0f", num(r, "area_nand2")), get(r, "reg_bits"), get(r, "depth"), fmt("%.0f", num(r, "fmax_est_mhz")),
-          luts, fits ? fmt("%.1f", num(r, "ice40_fmax_mhz")) : "-"};
 }
 
 // ---- section: synthesis -----------------------------------------------------------------------
@@ -240,20 +212,19 @@ std::string synthesis_section(Context& ctx) {
   const std::string formats = ctx.param("synthesis.formats", "e5m10,e6m12,e7m16,e8m23");
   const std::string stages = ctx.param("synthesis.stages", "0,4");
   const bool fpga = ctx.param("synthesis.fpga", "1") != "0";
-  const std::string cmd = run_sweep(ctx, "synth", units, formats, stages, fpga ? Flow::Ice40Fmax : Flow::Ice40Luts);
-  const Csv csv = read_csv(ctx.path("synth") / "synth_sweep.csv");
+  const Sweep sw = run_sweep(ctx, "synth", units, formats, stages, fpga ? Flow::Ice40Fmax : Flow::Ice40Luts);
 
   std::string md =
       "The speed side of the speed/accuracy trade: every unit synthesized by the project's open flow "
       "(synth/README.md: Yosys generic gates weighted in NAND2 equivalents, worst-stage depth from `ltp -noff`, "
       "Fmax estimated with the documented gate-delay model; iCE40 HX8K place and route by nextpnr). The accuracy "
       "side is the section above: its rows for the same formats are repeated here.\n\n" +
-      code_block("cd REPORT && " + cmd);
+      code_block("cd REPORT && " + sw.cmd);
   Table t;
-  for (const auto& r : csv.rows) {
-    std::vector<std::string> row{get(r, "unit"), get(r, "format"), get(r, "stages")};
-    if (!get(r, "error").empty()) {
-      row.insert(row.end(), {"error: " + get(r, "error"), "", "", "", "", ""});
+  for (const auto& r : sw.rows) {
+    std::vector<std::string> row{r.unit, r.format, std::to_string(r.stages)};
+    if (!r.error.empty()) {
+      row.insert(row.end(), {"error: " + r.error, "", "", "", "", ""});
     } else {
       auto c = synth_cells(r);
       row.insert(row.end(), c.begin(), c.end());
@@ -270,18 +241,16 @@ std::string synthesis_section(Context& ctx) {
 
   // Side by side with the accuracy section, when it ran in this report.
   if (std::filesystem::exists(ctx.path("accuracy.csv"))) {
-    const Csv acc = read_csv(ctx.path("accuracy.csv"));
-    std::map<std::string, std::map<std::string, std::string>> accm;
-    for (const auto& r : acc.rows) accm[get(r, "format") + " " + get(r, "op")] = r;
+    const auto accm = accuracy_rows(ctx);
     Table s;
-    for (const auto& r : csv.rows) {
-      if (get(r, "stages") != "0" || !get(r, "error").empty()) continue;
-      const std::string op = get(r, "unit").substr(3);  // fp_mul -> mul
-      auto it = accm.find(get(r, "format") + " " + op);
+    for (const auto& r : sw.rows) {
+      if (r.stages != 0 || !r.error.empty()) continue;
+      const std::string op = r.unit.substr(3);  // fp_mul -> mul
+      auto it = accm.find(r.format + " " + op);
       if (it == accm.end()) continue;
-      s.push_back({get(r, "unit"), get(r, "format"), fmt("%.0f", num(r, "area_nand2")),
-                   fmt("%.0f", num(r, "fmax_est_mhz")), fmt("%.3g", num(it->second, "mean_rel_err")),
-                   fmt("%.3g", num(it->second, "max_rel_err")), get(it->second, "out_of_range")});
+      s.push_back({r.unit, r.format, fmt("%.0f", r.area_nand2), fmt("%.0f", r.fmax_est_mhz),
+                   fmt("%.3g", std::atof(it->second[0].c_str())), fmt("%.3g", std::atof(it->second[1].c_str())),
+                   it->second[2]});
     }
     if (!s.empty()) {
       md += "Speed and accuracy side by side (combinational units; errors from the accuracy section's workload):\n\n";
@@ -303,37 +272,68 @@ std::string intersection_section(Context& ctx) {
   const std::string synth_formats = ctx.param("intersection.synth_formats", "e5m10");
   const bool synth = ctx.param("intersection.synth", "1") != "0";
   const std::string seed = std::to_string(ctx.opts.seed);
+  auto count = [](const std::string& key, const std::string& v) {
+    try {
+      size_t used = 0;
+      const unsigned long long n = std::stoull(v, &used);
+      if (used == v.size()) return static_cast<size_t>(n);
+    } catch (const std::exception&) {
+    }
+    throw ReportError("--param " + key + ": expected a count, got '" + v + "'");
+  };
   std::string md;
 
-  // 1. Tables 3.2-3.4: signed-volume errors, formula ranking, sign errors.
-  std::vector<std::string> a{"--synthetic", n_tri, "--seed", seed, "--out", ctx.path("tri").string(), "--threads",
-                             threads_arg(ctx), "--quiet"};
-  if (!ctx.opts.plots) a.push_back("--no-plot");
-  std::string cmd = run_captured(ctx, "study tri", a, "tri.txt");
-  md += "### Signed-volume error (Tables 3.2-3.4), formula ranking, sign errors\n\n" +
-        code_block("cd REPORT && " + cmd) +
-        "Lowest average relative error of V, Va and V0..2 against exact rationals (GMP) per format, on the "
-        "synthetic benchmark (random triangles about the origin, ray packets aimed for ~25 % hits). Full "
-        "printout: [tri.txt](tri.txt); data: `tri/study_tri_*.csv`.\n\n```\n" +
-        read_text(ctx.path("tri.txt")) + "```\n\n";
-  if (ctx.opts.plots)
-    for (const auto& e : std::filesystem::directory_iterator(ctx.path("tri")))
-      if (e.path().extension() == ".png")
-        md += "![" + e.path().stem().string() + "](tri/" + e.path().filename().string() + ")\n\n";
-
-  // 2. Ray-box false misses / false hits.
-  cmd = run_captured(ctx, "study box",
-                     {"--synthetic", n_box, "--seed", seed, "--csv", ctx.path("box.csv").string(), "--threads",
-                      threads_arg(ctx), "--quiet"},
-                     "box.txt");
+  // 1. Tables 3.2-3.4: signed-volume errors, formula ranking, sign errors (`study tri`).
   {
-    const Csv c = read_csv(ctx.path("box.csv"));
+    std::vector<std::string> a{"--synthetic", n_tri, "--seed", seed, "--out", ctx.path("tri").string(), "--threads",
+                               threads_arg(ctx), "--quiet"};
+    if (!ctx.opts.plots) a.push_back("--no-plot");
+    const std::string cmd = shown(ctx, "study tri", a);
+    ctx.progress(cmd);
+    TriStudyArgs ta;
+    ta.synthetic = count("intersection.tri_pairs", n_tri);
+    ta.seed = ctx.opts.seed;
+    ta.out_dir = ctx.path("tri").string();
+    ta.threads = threads_of(ctx);
+    ta.quiet = true;
+    ta.no_plot = !ctx.opts.plots;
+    Printout p(ctx, "tri.txt");
+    call(cmd, [&] { return run_tri_study(ta, cmd, p.out, p.err); });
+    const std::string text = p.finish();
+    md += "### Signed-volume error (Tables 3.2-3.4), formula ranking, sign errors\n\n" +
+          code_block("cd REPORT && " + cmd) +
+          "Lowest average relative error of V, Va and V0..2 against exact rationals (GMP) per format, on the "
+          "synthetic benchmark (random triangles about the origin, ray packets aimed for ~25 % hits). Full "
+          "printout: [tri.txt](tri.txt); data: `tri/study_tri_*.csv`.\n\n```\n" +
+          text + "```\n\n";
+    if (ctx.opts.plots)
+      for (const auto& e : std::filesystem::directory_iterator(ctx.path("tri")))
+        if (e.path().extension() == ".png")
+          md += "![" + e.path().stem().string() + "](tri/" + e.path().filename().string() + ")\n\n";
+  }
+
+  // 2. Ray-box false misses / false hits (`study box`).
+  {
+    const std::string cmd =
+        shown(ctx, "study box",
+              {"--synthetic", n_box, "--seed", seed, "--csv", ctx.path("box.csv").string(), "--threads",
+               threads_arg(ctx), "--quiet"});
+    ctx.progress(cmd);
+    BoxStudyArgs ba;
+    ba.synthetic = count("intersection.box_pairs", n_box);
+    ba.seed = ctx.opts.seed;
+    ba.csv = ctx.path("box.csv").string();
+    ba.threads = threads_of(ctx);
+    ba.quiet = true;
+    Printout p(ctx, "box.txt");
+    const BoxStudyRun run = call(cmd, [&] { return run_box_study(ba, cmd, p.out, p.err); });
+    p.finish();
     Table t;
-    for (const auto& r : c.rows) {
-      const double pairs = num(r, "pairs");
-      auto ppm = [&](const char* k) { return fmt("%.0f", 1e6 * num(r, k) / pairs); };
-      t.push_back({get(r, "format"), ppm("plain_false_miss"), ppm("plain_false_hit"), ppm("cons_false_miss"),
-                   ppm("cons_false_hit")});
+    for (const auto& c : run.cells) {
+      const double pairs = static_cast<double>(c.records);
+      auto ppm = [&](uint64_t n) { return fmt("%.0f", 1e6 * static_cast<double>(n) / pairs); };
+      t.push_back({c.fmt.name(), ppm(c.plain_false_miss), ppm(c.plain_false_hit), ppm(c.cons_false_miss),
+                   ppm(c.cons_false_hit)});
     }
     md += "### Ray-box test: false misses and false hits (per million pairs)\n\n" + code_block("cd REPORT && " + cmd) +
           "Against the exact slab test (GMP rationals). A false miss loses geometry; the conservative mode "
@@ -343,27 +343,38 @@ std::string intersection_section(Context& ctx) {
                                t);
   }
 
-  // 3. Watertightness: robust vs MT on a closed mesh, per format.
+  // 3. Watertightness: robust vs MT on a closed mesh, per format (`study watertight`).
   {
     const std::string csv = ctx.path("watertight.csv").string();
     std::vector<std::string> cmds;
+    Table t;
     std::stringstream fl(wt_formats);
     for (std::string f; std::getline(fl, f, ',');)
-      for (const char* tri : {"robust", "mt"})
-        cmds.push_back(run_captured(ctx, "study watertight",
-                                    {"--scene", "icosphere", "--format", f, "--tri", tri, "--rays", rays, "--seed",
-                                     seed, "--threads", threads_arg(ctx), "--csv", csv, "--quiet"},
-                                    "watertight_" + f + "_" + tri + ".txt"));
-    const Csv c = read_csv(csv);
-    Table t;
-    const std::vector<std::string> cols{"format",       "tri",         "edge_rays",          "edge_leaks",
-                                        "edge_double_hits", "vertex_rays", "vertex_leaks", "vertex_double_hits",
-                                        "overflow_rays"};
-    for (const auto& r : c.rows) {
-      std::vector<std::string> row;
-      for (const auto& h : cols) row.push_back(get(r, h));
-      t.push_back(row);
-    }
+      for (const char* tri : {"robust", "mt"}) {
+        const std::string cmd =
+            shown(ctx, "study watertight",
+                  {"--scene", "icosphere", "--format", f, "--tri", tri, "--rays", rays, "--seed", seed, "--threads",
+                   threads_arg(ctx), "--csv", csv, "--quiet"});
+        ctx.progress(cmd);
+        cmds.push_back(cmd);
+        WatertightArgs wa;
+        wa.scene = "icosphere";
+        wa.format = f;
+        wa.tri = tri;
+        wa.rays = count("intersection.rays", rays);
+        wa.seed = ctx.opts.seed;
+        wa.threads = threads_of(ctx);
+        wa.csv = csv;
+        wa.quiet = true;
+        Printout p(ctx, "watertight_" + f + "_" + tri + ".txt");
+        const WatertightRun w = call(cmd, [&] { return run_watertight_study(wa, p.out, p.err); });
+        p.finish();
+        const auto& r = w.result;
+        t.push_back({w.format, tri, std::to_string(r.edge.rays), std::to_string(r.edge.leaks),
+                     std::to_string(r.edge.double_hits), std::to_string(r.vertex.rays),
+                     std::to_string(r.vertex.leaks), std::to_string(r.vertex.double_hits),
+                     std::to_string(r.overflow_rays)});
+      }
     std::string cl;
     for (const auto& x : cmds) cl += "cd REPORT && " + x + "\n";
     if (!cl.empty()) cl.pop_back();
@@ -377,16 +388,15 @@ std::string intersection_section(Context& ctx) {
 
   // 4. Area of the units: robust vs MT.
   if (synth) {
-    cmd = run_sweep(ctx, "ray_synth", "ray_box,ray_tri_robust,ray_tri_mt", synth_formats, "0", Flow::Generic);
-    const auto rows = sweep_rows(ctx, "ray_synth");
+    const Sweep sw = run_sweep(ctx, "ray_synth", "ray_box,ray_tri_robust,ray_tri_mt", synth_formats, "0", Flow::Generic);
     Table t;
     std::stringstream fl(synth_formats);
     for (std::string f; std::getline(fl, f, ',');) {
-      const double rb = area_of(rows, "ray_tri_robust " + f + " 0"), mt = area_of(rows, "ray_tri_mt " + f + " 0"),
-                   bx = area_of(rows, "ray_box " + f + " 0");
+      const double rb = sw.area("ray_tri_robust", f, 0), mt = sw.area("ray_tri_mt", f, 0),
+                   bx = sw.area("ray_box", f, 0);
       t.push_back({f, fmt("%.0f", bx), fmt("%.0f", rb), fmt("%.0f", mt), fmt("%.2f", rb / mt)});
     }
-    md += "\n### Area: robust vs Moller-Trumbore\n\n" + code_block("cd REPORT && " + cmd) +
+    md += "\n### Area: robust vs Moller-Trumbore\n\n" + code_block("cd REPORT && " + sw.cmd) +
           "Combinational units (Stages 0), NAND2-equivalent area of the whole unit from the same flow as the "
           "synthesis section. Kensler estimates 35-42 % more arithmetic for the robust test. Data: "
           "[ray_synth/synth_sweep.csv](ray_synth/synth_sweep.csv).\n\n" +
@@ -406,50 +416,67 @@ std::string noise_section(Context& ctx) {
   std::vector<std::string> a{"--out", ctx.path("noise").string(), "--size", size, "--error-samples", samples,
                              "--range-samples", range, "--seed", std::to_string(ctx.opts.seed), "--quiet"};
   if (!ctx.opts.plots) a.push_back("--no-plot");
-  std::string cmd = run_captured(ctx, "noise study", a, "noise.txt");
+  const std::string cmd = shown(ctx, "noise study", a);
+  ctx.progress(cmd);
+  auto number = [](const std::string& key, const std::string& v) {
+    try {
+      size_t used = 0;
+      const long n = std::stol(v, &used);
+      if (used == v.size()) return n;
+    } catch (const std::exception&) {
+    }
+    throw ReportError("--param " + key + ": expected an integer, got '" + v + "'");
+  };
+  noise::StudyOptions o;  // what `noise study` sets from the command line above (cmd_noise.cpp)
+  o.out_dir = ctx.path("noise").string();
+  o.spectrum_size = static_cast<int>(number("noise.size", size));
+  o.error_samples = number("noise.error_samples", samples);
+  o.range_samples = number("noise.range_samples", range);
+  o.seed = ctx.opts.seed;
+  o.plot = ctx.opts.plots;
+  o.progress = false;
+  o.command = cmd;
+  if (o.error_samples < 1 || o.range_samples < 1) throw ReportError(cmd + " failed: sample counts must be >= 1");
+  Printout p(ctx, "noise.txt");
+  const noise::StudyResult res = call(cmd, [&] { return noise::run_study_result(o); });
+  p.finish();
   std::string md = code_block("cd REPORT && " + cmd);
-  if (std::filesystem::exists(ctx.path("noise") / "noise_summary.md")) {
-    relativize_file(ctx, ctx.path("noise") / "noise_summary.md");
-    std::string s = read_text(ctx.path("noise") / "noise_summary.md");
+  {
+    std::string s = res.summary_md;
     // its images and CSVs are next to it, in noise/
-    for (size_t p = 0; (p = s.find("](", p)) != std::string::npos; p += 2)
-      if (s.compare(p + 2, 4, "http") != 0) s.insert(p + 2, "noise/");
+    for (size_t q = 0; (q = s.find("](", q)) != std::string::npos; q += 2)
+      if (s.compare(q + 2, 4, "http") != 0) s.insert(q + 2, "noise/");
     // demote its headings below this section's
     std::string out, line;
     std::stringstream in(s);
     while (std::getline(in, line)) out += (line.rfind("#", 0) == 0 ? "##" + line : line) + "\n";
     md += out + "\n";
-  } else {
-    md += "```\n" + read_text(ctx.path("noise.txt")) + "```\n\n";
   }
 
   if (synth) {
     // Table 4.1 in this flow: the unit by pipeline depth, and the e8m23 FP units beside it.
     // it does not fit an iCE40; the sweep's plot is for FP formats (the table shows the noise rows)
-    cmd = run_sweep(ctx, "noise_synth", "noise", "", stages, Flow::Ice40Luts, false);
-    const std::string cmd2 = run_sweep(ctx, "noise_fp_synth", "fp_add,fp_mul,fp_dot3", "e8m23", "0", Flow::Generic);
-    const Csv c = read_csv(ctx.path("noise_synth") / "synth_sweep.csv");
+    const Sweep nz = run_sweep(ctx, "noise_synth", "noise", "", stages, Flow::Ice40Luts, false);
+    const Sweep fp = run_sweep(ctx, "noise_fp_synth", "fp_add,fp_mul,fp_dot3", "e8m23", "0", Flow::Generic);
     Table t;
-    for (const auto& r : c.rows) {
-      if (!get(r, "error").empty()) {
-        t.push_back({get(r, "stages"), "error: " + get(r, "error")});
+    for (const auto& r : nz.rows) {
+      if (!r.error.empty()) {
+        t.push_back({std::to_string(r.stages), "error: " + r.error});
         continue;
       }
       auto cells = synth_cells(r);
-      std::vector<std::string> row{get(r, "stages")};
+      std::vector<std::string> row{std::to_string(r.stages)};
       row.insert(row.end(), cells.begin(), cells.end());
       t.push_back(row);
     }
     md += "### Area and speed by pipeline depth (Table 4.1 in this flow)\n\n" +
-          code_block("cd REPORT && " + cmd + "\ncd REPORT && " + cmd2) +
+          code_block("cd REPORT && " + nz.cmd + "\ncd REPORT && " + fp.cmd) +
           ru::report::md_table({"stages", "area (NAND2-eq)", "register bits", "depth (gates)", "Fmax est. (MHz)",
                                 "iCE40 LUTs", "iCE40 Fmax (MHz)"},
                                t);
-    const auto fp = sweep_rows(ctx, "noise_fp_synth");
-    const auto nz = sweep_rows(ctx, "noise_synth");
-    const double n0 = area_of(nz, "noise  0");
-    const double add = area_of(fp, "fp_add e8m23 0"), mul = area_of(fp, "fp_mul e8m23 0"),
-                 dot = area_of(fp, "fp_dot3 e8m23 0");
+    const double n0 = nz.area("noise", "", 0);
+    const double add = fp.area("fp_add", "e8m23", 0), mul = fp.area("fp_mul", "e8m23", 0),
+                 dot = fp.area("fp_dot3", "e8m23", 0);
     md += "\nRatios (combinational, Stages 0): noise / e8m23 fp_add = " + fmt("%.2f", n0 / add) +
           ", noise / (fp_add + fp_mul) = " + fmt("%.2f", n0 / (add + mul)) +
           " (Kensler: about 2.0x an FP ALU), noise / e8m23 fp_dot3 = " + fmt("%.2f", n0 / dot) +

@@ -263,8 +263,9 @@ ErrorRow fixed_error(const FixedConfig& cfg, long samples, std::uint64_t seed, d
   return row;
 }
 
-int run_study(const StudyOptions& o) {
+StudyResult run_study_result(const StudyOptions& o) {
   namespace fs = std::filesystem;
+  StudyResult res;
   if (o.out_dir.empty()) throw std::invalid_argument("noise study: --out DIR is required");
   if (o.spectrum_size < 64 || (o.spectrum_size & (o.spectrum_size - 1)))
     throw std::invalid_argument("noise study: --size must be a power of two >= 64, got " + std::to_string(o.spectrum_size));
@@ -356,6 +357,7 @@ int run_study(const StudyOptions& o) {
   for (const FixedConfig& c : cfgs) {
     progress(o, "fixed-point error " + c.describe() + " (" + fmt("%.1f", elapsed()) + " s)");
     ErrorRow r = fixed_error(c, o.error_samples, o.seed, bh.value, 512);
+    res.errors.push_back(r);
     er << r.frac_bits << "," << r.out_w << "," << r.samples << "," << fmt("%.6g", r.max_abs) << ","
        << fmt("%.6g", r.rms) << "," << fmt("%.6g", r.mean) << "," << fmt("%.4f", r.psnr_db) << "," << r.saturated
        << "\n";
@@ -423,6 +425,12 @@ int run_study(const StudyOptions& o) {
       std::fprintf(stderr, "noise study: warning: plotting failed (%s); the CSV files are complete\n", cmd.c_str());
   }
   progress(o, "done in " + fmt("%.1f", elapsed()) + " s: " + o.out_dir);
+  res.summary_md = md.str();
+  return res;
+}
+
+int run_study(const StudyOptions& o) {
+  run_study_result(o);
   return 0;
 }
 

@@ -147,7 +147,7 @@ std::string sweep_csv(const json& rows) {
   return s;
 }
 
-int run_sweep(const SweepOptions& o, const std::function<void(const std::string&)>& progress) {
+SweepResult run_sweep_rows(const SweepOptions& o, const std::function<void(const std::string&)>& progress) {
   if (o.out_dir.empty()) throw SynthError("--out DIR is required");
   std::vector<std::string> skipped;
   const std::vector<SweepPoint> pts = sweep_points(o, &skipped);
@@ -322,7 +322,39 @@ int run_sweep(const SweepOptions& o, const std::function<void(const std::string&
     }
     progress("wrote " + png + " and " + png.substr(0, png.size() - 4) + ".md");
   }
-  return failed.load();
+  SweepResult res;
+  res.failed = failed.load();
+  for (const auto& r : all) res.rows.push_back(sweep_row(r));
+  return res;
 }
+
+int run_sweep(const SweepOptions& o, const std::function<void(const std::string&)>& progress) {
+  return run_sweep_rows(o, progress).failed;
+}
+
+SweepRow sweep_row(const json& r) {
+  auto num = [](const json& v) { return v.is_number() ? v.get<double>() : std::nan(""); };
+  SweepRow w;
+  w.unit = r.value("unit", "");
+  if (r.contains("format") && r["format"].is_string()) w.format = r["format"].get<std::string>();
+  w.stages = r.value("stages", 0);
+  if (r.contains("error")) {
+    w.error = r["error"].is_string() ? r["error"].get<std::string>() : r["error"].dump();
+    return w;
+  }
+  w.area_nand2 = num(get_path(r, "area_nand2"));
+  w.fmax_est_mhz = num(get_path(r, "fmax_est_mhz"));
+  w.reg_bits = r.value("reg_bits", 0L);
+  w.depth = r.value("depth", 0);
+  if (r.contains("ice40") && r["ice40"].is_object()) {
+    const json& ic = r["ice40"];
+    w.ice40_run = true;
+    w.ice40_luts = ic.value("luts", 0L);
+    w.ice40_fits = ic.value("fits", false);
+    w.ice40_fmax_mhz = num(get_path(ic, "fmax_mhz"));
+  }
+  return w;
+}
+
 
 }  // namespace ru::synth

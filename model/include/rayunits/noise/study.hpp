@@ -71,7 +71,13 @@ struct StudyOptions {
   bool plot = true;             // run scripts/plot_noise.py for the PNG curve
   bool progress = true;         // progress lines on stderr
 };
-// Writes noise_*.csv, noise_*.png and noise_summary.md into out_dir; returns 0.
-int run_study(const StudyOptions& o);
+struct StudyResult {
+  std::vector<ErrorRow> errors;  // the fixed-point error rows (noise_error_vs_bits.csv)
+  std::string summary_md;        // the Markdown written to noise_summary.md
+};
+// Writes noise_*.csv, noise_*.png and noise_summary.md into out_dir (`rayunits noise study`;
+// the report's noise section calls it too).
+StudyResult run_study_result(const StudyOptions& o);
+int run_study(const StudyOptions& o);  // run_study_result; returns 0
 
 }  // namespace ru::noise

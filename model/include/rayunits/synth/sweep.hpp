@@ -3,6 +3,7 @@
 // stages) by synth/plot_sweep.py.
 #pragma once
 
+#include <cmath>
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -36,6 +37,28 @@ struct SweepPoint {
 // Expands the grid (validating every unit and format); points beyond a unit's stage range go to
 // `skipped` as "fp_add e5m10 s9: <reason>".
 std::vector<SweepPoint> sweep_points(const SweepOptions& o, std::vector<std::string>* skipped);
+
+// One row of a sweep as typed values (what synth_sweep.csv holds for the columns the report shows).
+struct SweepRow {
+  std::string unit, format;  // format "" for units without one
+  int stages = 0;
+  std::string error;         // non-empty: the point failed; the other fields are unset
+  double area_nand2 = std::nan(""), fmax_est_mhz = std::nan("");
+  long reg_bits = 0;
+  int depth = 0;
+  bool ice40_run = false, ice40_fits = false;
+  long ice40_luts = 0;
+  double ice40_fmax_mhz = std::nan("");  // NaN without place and route
+};
+SweepRow sweep_row(const nlohmann::json& row);  // from a row of synth_sweep.json
+
+struct SweepResult {
+  int failed = 0;              // points with an error row
+  std::vector<SweepRow> rows;  // in grid order (the order of synth_sweep.csv)
+};
+
+// run_sweep, also returning the rows (the report's synthesis tables are built from them).
+SweepResult run_sweep_rows(const SweepOptions& o, const std::function<void(const std::string&)>& progress);
 
 // Runs the sweep, writing into o.out_dir: synth_sweep.csv, synth_sweep.json (meta + rows),
 // points/<top>.json (one row per point, reused by --resume) and synth_sweep.png.
