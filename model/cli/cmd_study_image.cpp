@@ -8,6 +8,7 @@
 #include "cli_util.hpp"
 #include "rayunits/render/studies.hpp"
 #include "rayunits/report/report.hpp"
+#include "rayunits/util/process.hpp"
 #include "render_common.hpp"
 
 namespace ru::cli {
@@ -107,7 +108,8 @@ int run_study_image(int argc, char** argv) {
     const std::string py = ru::report::find_python();
     const std::string script = (ru::report::scripts_dir() / "plot_render_study.py").string();
     const std::string cmd = py + " '" + script + "' '" + csv + "' '" + out + "/image_errors.png'";
-    if (std::system(cmd.c_str()) != 0) throw UsageError("plot failed: " + cmd);
+    if (util::run_foreground({py, script, csv, out + "/image_errors.png"}) != 0)
+      throw UsageError("plot failed: " + cmd);
     std::printf("wrote %s/image_errors.png\n", out.c_str());
   }
   return 0;

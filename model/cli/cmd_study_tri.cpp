@@ -22,6 +22,7 @@
 #include "rayunits/units/study.hpp"
 #include "rayunits/units/synthetic.hpp"
 #include "rayunits/units/trace.hpp"
+#include "rayunits/util/process.hpp"
 
 namespace ru::cli {
 namespace {
@@ -368,7 +369,7 @@ TriStudyRun run_tri_study(const TriStudyArgs& args, const std::string& command, 
     const std::string py = access("/usr/bin/python3", X_OK) == 0 ? "/usr/bin/python3" : "python3";
     const std::string cmd = py + " '" + std::string(RU_SOURCE_DIR) + "/scripts/plot_study_tri.py' '" + tables_csv +
                             "' '" + png + "'";
-    if (std::system(cmd.c_str()) == 0)
+    if (util::run_foreground({py, std::string(RU_SOURCE_DIR) + "/scripts/plot_study_tri.py", tables_csv, png}) == 0)
       std::fprintf(out, "wrote %s\n", png.c_str());
     else
       std::fprintf(err, "rayunits study tri: warning: the heat map was not drawn (%s failed; python3-matplotlib "

@@ -10,6 +10,7 @@
 #include "render_common.hpp"
 #include "rayunits/report/report.hpp"
 #include "rayunits/trax/studies.hpp"
+#include "rayunits/util/process.hpp"
 
 namespace ru::cli {
 namespace {
@@ -82,7 +83,8 @@ int run_study_trax(int argc, char** argv) {
       const std::string py = report::find_python();
       const std::string script = (report::scripts_dir() / "plot_trax_study.py").string();
       const std::string cmd = py + " '" + script + "' " + k + " '" + base + ".csv' '" + base + ".png'";
-      if (std::system(cmd.c_str()) != 0) throw UsageError("plot failed: " + cmd);
+      if (util::run_foreground({py, script, k, base + ".csv", base + ".png"}) != 0)
+        throw UsageError("plot failed: " + cmd);
       std::printf("wrote %s.csv, %s.md, %s.png\n", base.c_str(), base.c_str(), base.c_str());
     } else {
       std::printf("wrote %s.csv, %s.md\n", base.c_str(), base.c_str());

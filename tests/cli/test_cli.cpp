@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include "rayunits/util/process.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -39,11 +41,7 @@ void write_file(const fs::path& p, const std::string& text) {
   f << text;
 }
 
-std::string quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
+std::string quote(const std::string& s) { return ru::util::shell_quote(s); }
 
 // A scratch directory per test, removed at the end.
 class TempDir {

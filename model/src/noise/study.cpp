@@ -11,6 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "rayunits/util/process.hpp"
 #include "rayunits/util/rng.hpp"
 
 namespace ru::noise {
@@ -421,7 +422,7 @@ StudyResult run_study_result(const StudyOptions& o) {
     std::string script = std::string(RU_SOURCE_DIR) + "/scripts/plot_noise.py";
     std::string cmd = py + " '" + script + "' '" + o.out_dir + "'";
     progress(o, "plot: " + cmd);
-    if (std::system(cmd.c_str()) != 0)
+    if (util::run_foreground({py, script, o.out_dir}) != 0)
       std::fprintf(stderr, "noise study: warning: plotting failed (%s); the CSV files are complete\n", cmd.c_str());
   }
   progress(o, "done in " + fmt("%.1f", elapsed()) + " s: " + o.out_dir);

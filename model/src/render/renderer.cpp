@@ -2,16 +2,13 @@
 #include <time.h>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
-#include <condition_variable>
 #include <cmath>
 #include <cstdio>
 #include <functional>
 #include <memory>
 #include <mutex>
 #include <stdexcept>
-#include <thread>
 
 #include "rayunits/bvh/median.hpp"
 #include "rayunits/noise/fixed.hpp"
@@ -21,6 +18,7 @@
 #include "rayunits/units/ray_box.hpp"
 #include "rayunits/units/ray_tri.hpp"
 #include "rayunits/units/trace.hpp"
+#include "rayunits/util/parallel.hpp"
 
 namespace ru::render {
 
@@ -124,9 +122,6 @@ Image render_t(const scene::Scene& s, const RenderOptions& opt, const num::Forma
   constexpr int kTile = 16;
   const int tx = (opt.width + kTile - 1) / kTile, ty = (opt.height + kTile - 1) / kTile;
   const int ntiles = tx * ty;
-  std::atomic<int> next_tile{0}, done_tiles{0};
-  std::mutex done_mtx;
-  std::condition_variable done_cv;
 
   std::unique_ptr<units::TraceWriter> writer;
   TraceSink sink;
@@ -138,7 +133,9 @@ Image render_t(const scene::Scene& s, const RenderOptions& opt, const num::Forma
   // A trace is written in tile order by one thread, so that it is the same on every run.
   const int threads = writer ? 1 : std::max(1, opt.threads);
 
-  auto worker = [&]() {
+  // Tiles are handed out one at a time (util::parallel_workers); each thread keeps its own
+  // arithmetic environment and tracer.
+  auto worker = [&](const util::TakeIndex& take) {
     ThreadEnv<T> env(fmt);
     if constexpr (std::is_same_v<T, Probe>) {
       env.all = opt.profile_all;
@@ -146,9 +143,8 @@ Image render_t(const scene::Scene& s, const RenderOptions& opt, const num::Forma
     }
     Tracer<T> tr(P, opt);
     if (writer) tr.trace = &sink;
-    for (;;) {
-      const int tile = next_tile.fetch_add(1);
-      if (tile >= ntiles) break;
+    for (size_t next; take(next);) {
+      const int tile = static_cast<int>(next);
       const int x0 = (tile % tx) * kTile, y0 = (tile / tx) * kTile;
       const int x1 = std::min(x0 + kTile, opt.width), y1 = std::min(y0 + kTile, opt.height);
       if constexpr (kernel::kNative<T>) {
@@ -183,10 +179,6 @@ Image render_t(const scene::Scene& s, const RenderOptions& opt, const num::Forma
           }
         }
       }
-      if (done_tiles.fetch_add(1) + 1 == ntiles) {
-        std::lock_guard<std::mutex> g(done_mtx);
-        done_cv.notify_all();
-      }
     }
     env.finish(st, mtx);
     std::lock_guard<std::mutex> g(mtx);
@@ -196,24 +188,14 @@ Image render_t(const scene::Scene& s, const RenderOptions& opt, const num::Forma
     st.tri_tests += tr.cnt.tri;
     st.noise_evals += tr.cnt.noise;
   };
-  std::vector<std::thread> pool;
-  for (int i = 0; i < threads; ++i) pool.emplace_back(worker);
-  if (opt.progress) {
-    // Woken by the last worker, so the render's wall time is not rounded up to a poll period.
-    auto last = std::chrono::steady_clock::now();
-    std::unique_lock<std::mutex> lk(done_mtx);
-    while (done_tiles.load() < ntiles) {
-      done_cv.wait_for(lk, std::chrono::milliseconds(100));
-      auto now = std::chrono::steady_clock::now();
-      if (std::chrono::duration<double>(now - last).count() >= 2.0) {
-        last = now;
-        std::fprintf(stderr, "render %s: %3d%% (%d/%d tiles) %.1f s\n", st.format.c_str(),
-                     100 * done_tiles.load() / ntiles, done_tiles.load(), ntiles,
-                     std::chrono::duration<double>(now - t1).count());
-      }
-    }
-  }
-  for (auto& th : pool) th.join();
+  util::ParallelOptions po;
+  if (opt.progress)
+    po.progress = [&](size_t done, size_t) {
+      const int d = static_cast<int>(done);
+      std::fprintf(stderr, "render %s: %3d%% (%d/%d tiles) %.1f s\n", st.format.c_str(), 100 * d / ntiles, d,
+                   ntiles, std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count());
+    };
+  util::parallel_workers(static_cast<size_t>(ntiles), threads, worker, po);
   if (writer) {
     writer->close();
     st.trace_boxes = writer->box_count();

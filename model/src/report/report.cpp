@@ -2,28 +2,22 @@
 // See rayunits/report/report.hpp and docs/CLI.md.
 #include "rayunits/report/report.hpp"
 
-#include <fcntl.h>
-#include <signal.h>
-#include <spawn.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <ctime>
-#include <exception>
 #include <fstream>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <sstream>
-#include <thread>
 
-extern char** environ;
+#include "rayunits/util/git.hpp"
+#include "rayunits/util/interrupt.hpp"
+#include "rayunits/util/parallel.hpp"
+#include "rayunits/util/process.hpp"
 
 namespace ru::report {
 
@@ -45,31 +39,10 @@ std::vector<Section> sections() {
 }
 
 // ------------------------------------------------------------------------------ cancellation
-static std::atomic<bool> g_cancel{false};
-extern "C" void ru_report_on_signal(int) { g_cancel.store(true); }
+// SIGINT/SIGTERM during a run: util::InterruptGuard (util/interrupt.hpp) sets the flag that
+// check_cancelled() and parallel_for poll.
 
 namespace {
-// Installs SIGINT/SIGTERM handlers for the duration of a run and restores the old ones.
-class SignalGuard {
- public:
-  SignalGuard() {
-    g_cancel.store(false);
-    struct sigaction sa {};
-    sa.sa_handler = ru_report_on_signal;
-    sigemptyset(&sa.sa_mask);
-    sigaction(SIGINT, &sa, &old_int_);
-    sigaction(SIGTERM, &sa, &old_term_);
-  }
-  ~SignalGuard() {
-    sigaction(SIGINT, &old_int_, nullptr);
-    sigaction(SIGTERM, &old_term_, nullptr);
-  }
-
- private:
-  struct sigaction old_int_ {};
-  struct sigaction old_term_ {};
-};
-
 // Removes a directory tree on scope exit unless released.
 class DirGuard {
  public:
@@ -93,42 +66,15 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 // Runs argv (argv[0] searched in PATH); returns the exit status (-1 if it could not start).
 // quiet: stdout and stderr go to /dev/null.
 int spawn_wait(const std::vector<std::string>& args, bool quiet) {
-  std::vector<char*> argv;
-  for (const auto& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t fa;
-  posix_spawn_file_actions_init(&fa);
-  if (quiet) {
-    posix_spawn_file_actions_addopen(&fa, 1, "/dev/null", O_WRONLY, 0);
-    posix_spawn_file_actions_addopen(&fa, 2, "/dev/null", O_WRONLY, 0);
+  util::ProcessOptions o;
+  if (quiet) o.out = o.err = util::Redirect::null();
+  o.in = util::Redirect::inherit();
+  try {
+    const util::ProcessResult r = util::run_process(args, o);
+    return r.started ? r.status() : -1;
+  } catch (const util::ProcessError&) {
+    return -1;
   }
-  pid_t pid;
-  int rc = posix_spawnp(&pid, argv[0], &fa, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&fa);
-  if (rc != 0) return -1;
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0) {
-    if (errno != EINTR) return -1;
-  }
-  if (WIFEXITED(status)) return WEXITSTATUS(status);
-  return 128 + (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
-}
-
-std::string shell_quote(const std::string& s) {
-  std::string q = "'";
-  for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
-std::string read_command(const std::string& cmd) {
-  std::string out;
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return out;
-  char buf[256];
-  size_t n;
-  while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) out.append(buf, n);
-  pclose(p);
-  return out;
 }
 }  // namespace
 
@@ -144,51 +90,23 @@ void Context::progress(const std::string& msg) const {
 }
 
 void Context::check_cancelled() const {
-  if (g_cancel.load()) throw ReportError("interrupted");
+  if (util::interrupted()) throw ReportError("interrupted");
 }
 
 void Context::parallel_for(size_t n, const std::string& what, const std::function<void(size_t)>& fn) const {
   if (n == 0) return;
   const auto t0 = std::chrono::steady_clock::now();
-  std::atomic<size_t> next{0}, done{0};
-  std::atomic<bool> failed{false};
-  std::exception_ptr first_error;
-  std::mutex mu;
-  auto worker = [&] {
-    for (;;) {
-      if (failed.load() || g_cancel.load()) return;
-      size_t i = next.fetch_add(1);
-      if (i >= n) return;
-      try {
-        fn(i);
-      } catch (...) {
-        std::lock_guard<std::mutex> lock(mu);
-        if (!first_error) first_error = std::current_exception();
-        failed.store(true);
-        return;
-      }
-      done.fetch_add(1);
-    }
+  util::ParallelOptions po;
+  po.stop = [] { return util::interrupted(); };
+  po.progress = [&](size_t d, size_t total) {
+    char buf[160];
+    const double el = seconds_since(t0);
+    double left = d ? el * static_cast<double>(total - d) / static_cast<double>(d) : 0;
+    std::snprintf(buf, sizeof buf, "%s %zu/%zu (%.0f%%), %.0f s elapsed, ~%.0f s left", what.c_str(), d, total,
+                  100.0 * static_cast<double>(d) / static_cast<double>(total), el, left);
+    progress(buf);
   };
-  unsigned nt = std::max(1u, std::min<unsigned>(threads_, static_cast<unsigned>(n)));
-  std::vector<std::thread> pool;
-  for (unsigned t = 0; t < nt; ++t) pool.emplace_back(worker);
-  double last_print = 0;
-  while (done.load() < n && !failed.load() && !g_cancel.load()) {
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    double el = seconds_since(t0);
-    if (el - last_print >= 2.0) {
-      last_print = el;
-      size_t d = done.load();
-      char buf[160];
-      double left = d ? el * static_cast<double>(n - d) / static_cast<double>(d) : 0;
-      std::snprintf(buf, sizeof buf, "%s %zu/%zu (%.0f%%), %.0f s elapsed, ~%.0f s left", what.c_str(), d, n,
-                    100.0 * static_cast<double>(d) / static_cast<double>(n), el, left);
-      progress(buf);
-    }
-  }
-  for (auto& t : pool) t.join();
-  if (first_error) std::rethrow_exception(first_error);
+  util::parallel_for(n, static_cast<int>(threads_), fn, po);
   check_cancelled();
   char buf[120];
   std::snprintf(buf, sizeof buf, "%s %zu/%zu done in %.1f s", what.c_str(), n, n, seconds_since(t0));
@@ -208,14 +126,7 @@ void Context::run_python(const std::string& script, const std::vector<std::strin
 }
 
 // ------------------------------------------------------------------------------ tools
-std::string git_commit(const fs::path& source_dir) {
-  std::string q = shell_quote(source_dir.string());
-  std::string head = read_command("git -C " + q + " rev-parse HEAD 2>/dev/null");
-  while (!head.empty() && (head.back() == '\n' || head.back() == '\r' || head.back() == ' ')) head.pop_back();
-  if (head.size() < 7 || head.find_first_not_of("0123456789abcdef") != std::string::npos) return "unknown";
-  std::string dirty = read_command("git -C " + q + " status --porcelain --untracked-files=no 2>/dev/null");
-  return dirty.empty() ? head : head + " (with uncommitted changes)";
-}
+std::string git_commit(const fs::path& source_dir) { return util::git_commit(source_dir.string()); }
 
 std::string find_python() {
   static std::mutex mu;
@@ -326,9 +237,9 @@ Summary run_report(const Options& opts) {
     throw ReportError("cannot write report directory '" + shown + "': " + std::strerror(errno));
   fs::path tmp = tmpl;
   DirGuard guard(tmp);
-  SignalGuard signals;
+  util::InterruptGuard signals;
 
-  unsigned threads = opts.threads ? opts.threads : std::max(1u, std::thread::hardware_concurrency());
+  unsigned threads = opts.threads ? opts.threads : util::hardware_threads();
   Context ctx(opts, tmp, threads);
   std::string commit = git_commit(
 #ifdef RU_SOURCE_DIR

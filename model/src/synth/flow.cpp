@@ -79,6 +79,9 @@ FlopKind flop_kind(const std::string& t) {
   return k;
 }
 
+// A file name as a Yosys script word. Not util::shell_quote: Yosys's command tokenizer is not
+// a POSIX shell (single quotes are not special; a word with blanks is written "...", with \"
+// for a quote inside), so the script language needs its own quoting.
 std::string quote(const std::string& p) {
   if (p.find_first_of(" \t\"") == std::string::npos) return p;
   std::string q = "\"";

@@ -11,10 +11,11 @@
 #include <mutex>
 #include <set>
 #include <sstream>
-#include <thread>
 
 #include "rayunits/synth/args.hpp"
 #include "rayunits/synth/process.hpp"
+#include "rayunits/util/git.hpp"
+#include "rayunits/util/parallel.hpp"
 
 namespace ru::synth {
 namespace fs = std::filesystem;
@@ -61,24 +62,13 @@ json get_path(const json& row, const std::string& key) {
   return get_path(row[head], key.substr(dot + 1));
 }
 
+// Short HEAD, "+dirty-rtl" when rtl/ differs from it (the sweep's rows describe rtl/).
 std::string git_commit() {
 #ifdef RU_SOURCE_DIR
-  const std::string git = find_program("git");
-  if (git.empty()) return "unknown";
-  try {
-    TempDir t("ru-git-");
-    const std::string log = t.path() + "/out";
-    ProcResult r = run_process({git, "-C", RU_SOURCE_DIR, "rev-parse", "--short", "HEAD"}, t.path(), log, 10);
-    std::string s = read_file(log);
-    while (!s.empty() && (s.back() == '\n' || s.back() == '\r')) s.pop_back();
-    if (r.exit_code == 0 && !s.empty() && s.find('\n') == std::string::npos) {
-      ProcResult d = run_process({git, "-C", RU_SOURCE_DIR, "diff", "--quiet", "HEAD", "--", "rtl"}, t.path(),
-                                 t.path() + "/diff", 10);
-      return s + (d.exit_code == 0 ? "" : "+dirty-rtl");
-    }
-  } catch (const SynthError&) {
-  }
-  return "none (no commit)";
+  if (find_program("git").empty()) return "unknown";
+  const auto c = util::git_commit_info(RU_SOURCE_DIR, /*short_hash=*/true, {"rtl"});
+  if (!c) return "none (no commit)";
+  return c->hash + (c->dirty ? "+dirty-rtl" : "");
 #else
   return "unknown";
 #endif
@@ -164,7 +154,6 @@ SweepResult run_sweep_rows(const SweepOptions& o, const std::function<void(const
   for (const auto& s : skipped) progress("skipped " + s);
 
   std::vector<json> rows(pts.size());
-  std::atomic<size_t> next{0};
   std::atomic<int> done{0}, failed{0};
   std::mutex mu;
   const auto t0 = std::chrono::steady_clock::now();
@@ -175,11 +164,10 @@ SweepResult run_sweep_rows(const SweepOptions& o, const std::function<void(const
                   sig.c_str());
     progress(b);
   }
-  auto worker = [&] {
-    for (;;) {
-      if (interrupted()) return;
-      const size_t i = next++;
-      if (i >= pts.size()) return;
+  // Points are handed out one at a time to o.jobs threads; an interrupt stops the handout.
+  util::ParallelOptions po;
+  po.stop = [] { return interrupted(); };
+  util::parallel_for(pts.size(), std::max(1, o.jobs), [&](size_t i) {
       const SweepPoint& p = pts[i];
       const std::string top = wrapper_name(*p.unit, p.cfg);
       const std::string point_file = (fs::path(o.out_dir) / "points" / (top + ".json")).string();
@@ -253,11 +241,7 @@ SweepResult run_sweep_rows(const SweepOptions& o, const std::function<void(const
       if (d < static_cast<int>(pts.size())) m << ", ETA " << hms(el / d * (pts.size() - d));
       std::lock_guard<std::mutex> lock(mu);
       progress(m.str());
-    }
-  };
-  std::vector<std::thread> threads;
-  for (int t = 0; t < std::max(1, o.jobs); ++t) threads.emplace_back(worker);
-  for (auto& t : threads) t.join();
+  }, po);
   if (interrupted())
     throw SynthError("interrupted after " + std::to_string(done.load()) + " of " +
                      std::to_string(pts.size()) + " points (finished points are in " + o.out_dir +
@@ -355,6 +339,5 @@ SweepRow sweep_row(const json& r) {
   }
   return w;
 }
-
 
 }  // namespace ru::synth

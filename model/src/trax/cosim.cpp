@@ -8,10 +8,10 @@
 #include <filesystem>
 #include <sstream>
 #include <stdexcept>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include "rayunits/num/format.hpp"
+#include "rayunits/util/process.hpp"
 
 namespace ru::trax::cosim {
 
@@ -38,15 +38,8 @@ std::string default_executable() {
   return (self.parent_path().parent_path().parent_path() / "tb" / "trax" / "tb_trax_cosim").string();
 }
 
-Client::~Client() {
-  if (to_ >= 0) ::close(to_);
-  if (from_ >= 0) ::close(from_);
-  if (pid_ > 0) {
-    ::kill(pid_, SIGTERM);
-    int st = 0;
-    ::waitpid(pid_, &st, 0);
-  }
-}
+// The child's destructor closes the pipes, sends SIGTERM if it still runs and reaps it.
+Client::~Client() = default;
 
 namespace {
 // Reads one line (without '\n'); false at EOF before any character.
@@ -61,17 +54,6 @@ bool read_line(int fd, std::string& line) {
     line += ch;
   }
 }
-std::string read_all(int fd) {
-  std::string s;
-  char b[4096];
-  for (;;) {
-    const ssize_t n = ::read(fd, b, sizeof b);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) break;
-    s.append(b, static_cast<size_t>(n));
-  }
-  return s;
-}
 }  // namespace
 
 void Client::start(const Config& cfg) {
@@ -79,26 +61,22 @@ void Client::start(const Config& cfg) {
   if (!fs::exists(exe_, ec) || ::access(exe_.c_str(), X_OK) != 0)
     throw std::runtime_error("--cosim: the RTL co-simulation executable " + exe_ +
                              " is not built (build the target tb_trax_cosim, or set RU_TRAX_COSIM)");
-  int in[2], out[2];
-  if (::pipe(in) != 0 || ::pipe(out) != 0) throw std::runtime_error("--cosim: pipe() failed");
   std::signal(SIGPIPE, SIG_IGN);  // a companion that stopped at a mismatch: write() gives EPIPE
-  pid_ = ::fork();
-  if (pid_ < 0) throw std::runtime_error("--cosim: fork() failed");
-  if (pid_ == 0) {
-    ::dup2(in[0], 0);
-    ::dup2(out[1], 1);
-    ::close(in[0]);
-    ::close(in[1]);
-    ::close(out[0]);
-    ::close(out[1]);
-    ::execl(exe_.c_str(), exe_.c_str(), "--serve", static_cast<char*>(nullptr));
-    std::fprintf(stderr, "--cosim: cannot execute %s: %s\n", exe_.c_str(), std::strerror(errno));
-    ::_exit(127);
+  // stdin and stdout are pipes to us, stderr is ours; it stays in our process group (Ctrl-C
+  // ends both) and is not stopped by the interrupt flag (it ends when its input does).
+  util::ProcessOptions po;
+  po.in = util::Redirect::capture();
+  po.out = util::Redirect::capture();
+  po.new_group = false;
+  po.stop_on_interrupt = false;
+  try {
+    child_ = std::make_unique<util::Child>(std::vector<std::string>{exe_, "--serve"}, po);
+  } catch (const util::ProcessError& e) {
+    throw std::runtime_error(std::string("--cosim: ") + e.what());
   }
-  ::close(in[0]);
-  ::close(out[1]);
-  to_ = in[1];
-  from_ = out[0];
+  if (!child_->started()) throw std::runtime_error("--cosim: " + child_->wait().error);
+  to_ = child_->in_fd();
+  from_ = child_->out_fd();
   const std::string h = header_line(cfg) + "\n";
   put(h.data(), h.size());
   flush();
@@ -165,16 +143,13 @@ Outcome Client::finish(uint64_t last_cycle) {
     put(&r, sizeof r);
     flush();
   }
-  ::close(to_);
-  to_ = -1;
-  std::string text = read_all(from_);
-  ::close(from_);
-  from_ = -1;
-  int st = 0;
-  ::waitpid(pid_, &st, 0);
-  pid_ = -1;
+  child_->close_in();
+  to_ = from_ = -1;
+  const util::ProcessResult r = child_->wait();  // the rest of its stdout, its exit status
+  std::string text = r.out;
+  const int st = r.term_signal ? r.term_signal : r.exit_code << 8;  // as waitpid's status
   while (!text.empty() && text.back() == '\n') text.pop_back();
-  const bool exited_ok = WIFEXITED(st) && WEXITSTATUS(st) == 0;
+  const bool exited_ok = !r.term_signal && r.exit_code == 0;
   o.ok = exited_ok && text.rfind("DONE", 0) == 0;
   o.summary = text.empty() ? "the co-simulation process ended without a verdict (status " + std::to_string(st) + ")"
                            : text;

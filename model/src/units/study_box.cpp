@@ -3,10 +3,10 @@
 #include <cmath>
 #include <mutex>
 
-#include "parallel.hpp"
 #include "rayunits/units/exact.hpp"
 #include "rayunits/units/ray_box.hpp"
 #include "rayunits/units/study.hpp"
+#include "rayunits/util/parallel.hpp"
 
 namespace ru::units {
 
@@ -60,7 +60,7 @@ std::vector<BoxCell> study_box(const std::vector<BoxRecord>& recs, const BoxStud
   std::vector<BoxCell> cells(opt.formats.size());
   std::mutex mu;
   size_t done = 0;
-  detail::parallel_for(opt.formats.size(), opt.threads, [&](size_t i) {
+  util::parallel_for(opt.formats.size(), opt.threads, [&](size_t i) {
     BoxCell c = run_cell(opt.formats[i], recs);
     std::lock_guard<std::mutex> lock(mu);
     cells[i] = c;

@@ -9,7 +9,7 @@
 #include "rayunits/units/exact.hpp"
 #include "rayunits/units/ray_tri.hpp"
 #include "rayunits/units/study.hpp"
-#include "parallel.hpp"
+#include "rayunits/util/parallel.hpp"
 
 namespace ru::units {
 
@@ -261,7 +261,7 @@ TriStudy study_tri(const std::vector<TriRecord>& recs, const TriStudyOptions& op
   std::vector<ExactRec> ex(used.size());
   // Exact values, in blocks of records across the threads.
   const size_t block = 256;
-  detail::parallel_for((used.size() + block - 1) / block, opt.threads, [&](size_t b) {
+  util::parallel_for((used.size() + block - 1) / block, opt.threads, [&](size_t b) {
     for (size_t n = b * block; n < std::min(used.size(), (b + 1) * block); ++n) {
       const TriRecord& r = recs[used[n]];
       const ExactTriHit h = exact_tri(r.a, r.d, r.p0, r.p1, r.p2, r.t_min, r.t_max);
@@ -280,7 +280,7 @@ TriStudy study_tri(const std::vector<TriRecord>& recs, const TriStudyOptions& op
   st.cells.resize(opt.formats.size());
   std::mutex mu;
   size_t done = 0;
-  detail::parallel_for(opt.formats.size(), opt.threads, [&](size_t i) {
+  util::parallel_for(opt.formats.size(), opt.threads, [&](size_t i) {
     TriCell c = run_cell(opt.formats[i], recs, used, ex, opt.decisions);
     std::lock_guard<std::mutex> lock(mu);
     st.cells[i] = std::move(c);

@@ -5,10 +5,10 @@
 #include <cmath>
 #include <mutex>
 
-#include "parallel.hpp"
 #include "rayunits/num/fp.hpp"
 #include "rayunits/units/exact.hpp"
 #include "rayunits/units/synthetic.hpp"
+#include "rayunits/util/parallel.hpp"
 
 namespace ru::units {
 
@@ -208,7 +208,7 @@ WatertightResult run_watertight(const Mesh& mesh, const WatertightOptions& opt) 
   std::mutex mu;
   const size_t block = 128;
   const size_t nblocks = (opt.rays + block - 1) / block;
-  detail::parallel_for(nblocks, opt.threads, [&](size_t b) {
+  util::parallel_for(nblocks, opt.threads, [&](size_t b) {
     ru::num::SoftScope scope(opt.fmt);
     WatertightResult loc;
     size_t cand_sum = 0;

@@ -6,8 +6,10 @@
 
 namespace ru::synth {
 
-// Resolves a program name (searched on PATH) or path to an absolute executable path;
-// returns "" when it cannot be found / is not executable.
+// Thin names over rayunits/util/process.hpp and util/interrupt.hpp kept for the synthesis flow.
+
+// util::find_program: a program name (searched on PATH) or path to an absolute executable
+// path; returns "" when it cannot be found / is not executable.
 std::string find_program(const std::string& name_or_path);
 
 struct ProcResult {
@@ -16,15 +18,17 @@ struct ProcResult {
   double seconds = 0;
 };
 
-// Runs argv (argv[0] must be an absolute path from find_program) in `cwd`, stdout and stderr
-// appended to `log_path`. timeout_s > 0 kills the child (SIGKILL) after that many seconds.
-// Throws SynthError("interrupted") after an interrupt (see below). Thread-safe.
+// Runs argv (util::run_process; argv[0] a path from find_program or a name on PATH) in `cwd`,
+// stdout and stderr appended to `log_path`. timeout_s > 0 kills the child's process group
+// (SIGKILL) after that many seconds; exit_code 127 if it cannot be executed. Throws
+// SynthError("interrupted") after an interrupt (see below). Thread-safe.
 ProcResult run_process(const std::vector<std::string>& argv, const std::string& cwd,
                        const std::string& log_path, int timeout_s = 0);
 
-// SIGINT/SIGTERM set a flag instead of killing the process: run_process() then stops its child
-// and throws SynthError("interrupted"), so temp directories are removed on the way out and
-// sweeps stop taking new points. The CLI commands install it.
+// util::install_interrupt_handler / util::interrupted: SIGINT/SIGTERM set a flag instead of
+// killing the process: run_process() then stops its child and throws SynthError("interrupted"),
+// so temp directories are removed on the way out and sweeps stop taking new points. The CLI
+// commands install it.
 void install_interrupt_handler();
 bool interrupted();
 

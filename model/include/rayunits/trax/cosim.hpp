@@ -19,12 +19,14 @@
 //     (then it exits with status 1 without reading further).
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <sys/types.h>
 #include <vector>
 
 #include "rayunits/trax/config.hpp"
 #include "rayunits/trax/sim.hpp"
+#include "rayunits/util/process.hpp"
 
 namespace ru::trax::cosim {
 
@@ -79,8 +81,8 @@ class Client : public IssueObserver {
   std::string exe_;
   int64_t inject_ = -1;
   uint64_t sent_ = 0;
-  int to_ = -1, from_ = -1;
-  pid_t pid_ = -1;
+  std::unique_ptr<util::Child> child_;  // the companion (util/process.hpp)
+  int to_ = -1, from_ = -1;              // its stdin / stdout pipes (owned by child_)
   bool failed_ = false;
   std::vector<char> buf_;
   std::string ok_line_;
