@@ -375,4 +375,11 @@ TEST(Loader, ExactCoordinatesForTheStudyImporterCoordinatesForScenes) {
   const std::string p = write_file("tenth.off", "OFF\n3 1 0\n0.1 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
   EXPECT_EQ(ru::units::load_mesh(p).verts[0].x, 0.1);
   EXPECT_EQ(load_mesh(p, 'z').tris[0].p[0].x, static_cast<double>(0.1f));
+  // A coordinate is the number at the start of its token, as Assimp reads it (its own test model
+  // OBJ/number_formats.obj has "3.1+e2"); a token without a number is an error.
+  const std::string q = write_file("prefix.obj", "v 0 0 3.1+e2\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  EXPECT_EQ(ru::units::load_mesh(q).verts[0].z, 3.1);
+  EXPECT_EQ(load_mesh(q, 'z').tris[0].p[0].z, static_cast<double>(3.1f));
+  const std::string m = both_errors(write_file("nonum.obj", "v 0 0 x3\nv 1 0 0\nv 0 1 0\nf 1 2 3\n"));
+  EXPECT_NE(m.find("nonum.obj:1: 'x3' is not a number (expected 'v x y z')"), std::string::npos) << m;
 }

@@ -250,12 +250,12 @@ std::vector<Case> make_cases() {
     f[2][0] = -1;
     add("index.ply", ply_binary(octa_verts(), f), Expect::Reject, "binary PLY index -1");
   }
-  for (const char* bad : {"nan", "-nan", "inf", "-inf", "1e999", "-1e400", "1e20", "-3e38", "1.8446744073709552e19x"}) {
+  for (const char* bad : {"nan", "-nan", "inf", "-inf", "1e999", "-1e400", "1e20", "-3e38", "1e20x", "x1"}) {
     Text c = with([&](Text& x) { x.v[4][2] = bad; });
     const std::string why = std::string("coordinate ") + bad;
     add("coord.off", off(c), Expect::Reject, why);
     add("coord.obj", obj(c), Expect::Reject, why);
-    if (std::string(bad) != "1.8446744073709552e19x") {  // trailing garbage: the OFF/OBJ readers' check
+    if (std::string(bad).find('x') == std::string::npos) {  // tokens with letters: the OFF/OBJ readers' check
       add("coord.stl", stl_ascii(c), Expect::Reject, why);
       add("coord.ply", ply_ascii(c), Expect::Reject, why);
     }

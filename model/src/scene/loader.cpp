@@ -162,14 +162,18 @@ std::string_view strip_comment(std::string_view line) {
   return h == std::string_view::npos ? line : line.substr(0, h);
 }
 
+// A coordinate is the number at the start of its token, as Assimp and the watertightness
+// study's earlier reader (istream >> double) read it: "3.1+e2" (Assimp's own test model
+// OBJ/number_formats.obj) is 3.1. A token that does not start with a number is an error.
 bool parse_double(std::string_view t, double* v) {
-  if (t.empty() || t.size() > 200) return false;
+  if (t.empty()) return false;
   char buf[256];
-  std::memcpy(buf, t.data(), t.size());
-  buf[t.size()] = '\0';
+  const size_t n = std::min<size_t>(t.size(), sizeof buf - 1);
+  std::memcpy(buf, t.data(), n);
+  buf[n] = '\0';
   char* end = nullptr;
   *v = std::strtod(buf, &end);
-  return end == buf + t.size();
+  return end != buf;
 }
 
 bool parse_long(std::string_view t, long long* v) {
