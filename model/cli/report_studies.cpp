@@ -22,6 +22,7 @@
 #include "rayunits/report/report.hpp"
 #include "rayunits/synth/process.hpp"
 #include "rayunits/synth/sweep.hpp"
+#include "rayunits/util/csv.hpp"
 #include "studies.hpp"
 
 namespace ru::cli {
@@ -189,16 +190,12 @@ std::vector<std::string> synth_cells(const synth::SweepRow& r) {
 }
 
 // The accuracy section's rows (format, op) -> {mean_rel_err, max_rel_err, out_of_range}, read
-// from the accuracy.csv it wrote into this report (fixed columns, no quoted fields).
+// from the accuracy.csv it wrote into this report (util/csv.hpp; fixed columns).
 std::map<std::string, std::vector<std::string>> accuracy_rows(const Context& ctx) {
   std::map<std::string, std::vector<std::string>> m;
-  std::ifstream f(ctx.path("accuracy.csv"));
-  std::string line;
-  std::getline(f, line);  // header
-  while (std::getline(f, line)) {
-    std::vector<std::string> c;
-    std::stringstream in(line);
-    for (std::string x; std::getline(in, x, ',');) c.push_back(x);
+  const std::vector<util::CsvRow> rows = util::csv_read_file(ctx.path("accuracy.csv").string());
+  for (size_t i = 1; i < rows.size(); ++i) {  // row 0: the header
+    const util::CsvRow& c = rows[i];
     if (c.size() < 11) continue;
     m[c[2] + " " + c[3]] = {c[6], c[7], c[10]};
   }

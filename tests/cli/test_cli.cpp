@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "rayunits/util/csv.hpp"
 #include "rayunits/util/process.hpp"
 
 namespace fs = std::filesystem;
@@ -408,19 +409,12 @@ TEST_F(Cli, ReportTinyGrid) {
 // Parses accuracy.csv into (format, op) -> columns.
 std::map<std::string, std::map<std::string, std::string>> read_accuracy(const fs::path& csv) {
   std::map<std::string, std::map<std::string, std::string>> m;
-  auto ls = lines(read_file(csv));
-  if (ls.empty()) return m;
-  std::vector<std::string> head;
-  {
-    std::stringstream ss(ls[0]);
-    std::string c;
-    while (std::getline(ss, c, ',')) head.push_back(c);
-  }
-  for (size_t i = 1; i < ls.size(); ++i) {
-    std::stringstream ss(ls[i]);
-    std::string c;
+  const auto rows = ru::util::csv_read_file(csv.string());
+  if (rows.empty()) return m;
+  const auto& head = rows[0];
+  for (size_t i = 1; i < rows.size(); ++i) {
     std::map<std::string, std::string> row;
-    for (size_t k = 0; k < head.size() && std::getline(ss, c, ','); ++k) row[head[k]] = c;
+    for (size_t k = 0; k < head.size() && k < rows[i].size(); ++k) row[head[k]] = rows[i][k];
     m[row["format"] + " " + row["op"]] = row;
   }
   return m;

@@ -14,6 +14,7 @@
 
 #include "rayunits/synth/args.hpp"
 #include "rayunits/synth/process.hpp"
+#include "rayunits/util/csv.hpp"
 #include "rayunits/util/git.hpp"
 #include "rayunits/util/parallel.hpp"
 
@@ -43,13 +44,7 @@ std::string hms(double s) {
 
 std::string csv_cell(const json& v) {
   if (v.is_null()) return "";
-  if (v.is_string()) {
-    std::string s = v.get<std::string>();
-    if (s.find_first_of(",\"\n") == std::string::npos) return s;
-    std::string q = "\"";
-    for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-    return q + "\"";
-  }
+  if (v.is_string()) return util::csv_cell(v.get<std::string>());
   if (v.is_boolean()) return v.get<bool>() ? "1" : "0";
   return v.dump();
 }

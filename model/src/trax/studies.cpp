@@ -8,6 +8,7 @@
 
 #include "rayunits/render/render.hpp"
 #include "rayunits/trax/trax.hpp"
+#include "rayunits/util/csv.hpp"
 
 namespace ru::trax {
 
@@ -184,12 +185,7 @@ StudyTable units(const scene::Scene& s, const StudyOptions& o) {
   return t;
 }
 
-std::string csv_cell(const std::string& v) {
-  if (v.find_first_of(",\"") == std::string::npos) return v;
-  std::string o = "\"";
-  for (char c : v) o += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return o + "\"";
-}
+using util::csv_cell;
 
 }  // namespace
 
