@@ -6,8 +6,6 @@
 // every planted error (index out of range, non-finite or huge coordinate, oversized count,
 // degenerate-only mesh, short face, truncated count) is rejected.
 #include <gtest/gtest.h>
-#include <sys/stat.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -25,6 +23,7 @@
 #include "rayunits/scene/mesh_file.hpp"
 #include "rayunits/scene/scene.hpp"
 #include "rayunits/units/mesh.hpp"
+#include "rayunits/util/process.hpp"
 
 namespace fs = std::filesystem;
 using ru::scene::SceneError;
@@ -341,13 +340,6 @@ void check_error_line(const std::string& m, const std::string& path) {
 
 std::string rayunits() { return std::string(RU_BINARY_DIR) + "/model/cli/rayunits"; }
 
-std::string slurp(const std::string& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
-
 }  // namespace
 
 TEST(MeshFuzz, FilesThroughBothLibraryEntryPointsAndEveryCommand) {
@@ -413,6 +405,7 @@ TEST(MeshFuzz, FilesThroughBothLibraryEntryPointsAndEveryCommand) {
     sample.swap(keep);
   }
   const std::string out = temp_dir() + "/out";
+  ::setenv("RU_MESH_TIMEOUT", "5", 1);  // for the commands: an importer hang is an error after 5 s
   struct Cmd {
     const char* name;
     std::string args;  // {M}: the mesh, {O}: an output path
@@ -429,17 +422,27 @@ TEST(MeshFuzz, FilesThroughBothLibraryEntryPointsAndEveryCommand) {
     for (const auto& cmd : cmds) {
       SCOPED_TRACE(std::string(cmd.name) + " " + c.name + (c.why.empty() ? "" : " (" + c.why + ")"));
       const std::string o = out + std::to_string(runs);
-      std::string args = cmd.args;
-      args.replace(args.find("{M}"), 3, "'" + p + "'");
-      args.replace(args.find("{O}"), 3, o);
-      const std::string err = o + ".err";
-      const std::string line = "RU_MESH_TIMEOUT=5 timeout -s KILL 60 " + rayunits() + " " + args + " >/dev/null 2>" + err;
-      const int st = std::system(line.c_str());
+      // Words of the command line, {M} and {O} filled in (no shell: the util launcher).
+      std::vector<std::string> argv = {rayunits()};
+      std::istringstream words(cmd.args);
+      for (std::string w; words >> w;) {
+        if (w == "{M}") w = p;
+        const size_t at = w.find("{O}");
+        if (at != std::string::npos) w.replace(at, 3, o);
+        argv.push_back(w);
+      }
+      ru::util::ProcessOptions po;
+      po.timeout_s = 60;
+      po.out = ru::util::Redirect::null();
+      po.err = ru::util::Redirect::capture();
+      const ru::util::ProcessResult r = ru::util::run_process(argv, po);
       ++runs;
-      ASSERT_TRUE(WIFEXITED(st)) << line;
-      const int rc = WEXITSTATUS(st);
-      const std::string e = slurp(err);
-      // 0: accepted, 2: rejected; 124/137: hang, 128+n: killed by signal n.
+      const std::string line = ru::util::shell_join(argv);
+      ASSERT_TRUE(r.started) << r.error << ": " << line;
+      ASSERT_FALSE(r.timed_out) << "hang: " << line;
+      ASSERT_EQ(r.term_signal, 0) << "killed by signal " << r.term_signal << ": " << line << "\n" << r.err;
+      const int rc = r.exit_code;
+      const std::string& e = r.err;
       ASSERT_TRUE(rc == 0 || rc == 2) << "exit " << rc << ": " << line << "\n" << e;
       if (c.expect == Expect::Reject) {
         EXPECT_EQ(rc, 2) << "a planted error was accepted: " << line;
@@ -463,6 +466,7 @@ TEST(MeshFuzz, FilesThroughBothLibraryEntryPointsAndEveryCommand) {
       }
     }
   }
+  ::unsetenv("RU_MESH_TIMEOUT");
   EXPECT_GT(cli_ok, 0);
   EXPECT_GT(cli_rejected, 0);
   const double total_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
