@@ -424,7 +424,7 @@ std::string noise_section(Context& ctx) {
     }
     throw ReportError("--param " + key + ": expected an integer, got '" + v + "'");
   };
-  noise::StudyOptions o;  // what `noise study` sets from the command line above (cmd_noise.cpp)
+  noise::StudyOptions o;  // what `noise study` sets from the command line above (cmd_noise_study.cpp)
   o.out_dir = ctx.path("noise").string();
   o.spectrum_size = static_cast<int>(number("noise.size", size));
   o.error_samples = number("noise.error_samples", samples);

@@ -5,7 +5,7 @@
 //   traversal   stack vs stackless (bit trail) traversal
 //   noise       hardware noise unit vs noise computed in software on the TPs
 //   units       functional-unit count sweep (threads per FP adder/multiplier)
-// Command: `rayunits study trax --kind K` (model/cli/cmd_trax_study.cpp); report section
+// Command: `rayunits study trax --kind K` (model/cli/cmd_study_trax.cpp); report section
 // "trax" (model/cli/report_trax.cpp).
 #pragma once
 #include <functional>
