@@ -548,7 +548,7 @@ namespace {
 // The value of `localparam <name>` of the top module in Verilator's XML netlist, -1 if absent.
 // Verilator 5.006 writes each elaborated localparam as
 //   <var ... name="MaxUsefulStages" ... localparam="true"> <const ... name="32'h5" .../>
-// inside the top <module>; the first match is the top's (submodules come later).
+// inside the <module ... topModule="1"> element (the caller passes only that element).
 long long xml_localparam(const std::string& xml, const std::string& name) {
   const std::regex re("<var [^>]*name=\"" + name + "\"[^>]*localparam=\"true\"[^>]*>\\s*<const [^>]*name=\"([0-9]*)&apos;([sh]?)([hdbo]?)([0-9a-fA-F_]+)\"");
   std::smatch m;
@@ -594,7 +594,12 @@ RtlStageFacts rtl_stage_facts(const UnitSpec& u, const UnitConfig& c, const std:
       if (ch == '\n') ch = ' ';
     throw SynthError(cfg_label(u, c) + ": verilator --xml-only failed: " + text);
   }
-  const std::string xml = read_file(tmp.path() + "/top.xml");
+  std::string xml = read_file(tmp.path() + "/top.xml");
+  // Only the top module's own localparams: submodules (the FP instances of a composite unit)
+  // declare the same names.
+  const size_t top = xml.find("topModule=\"1\"");
+  if (top == std::string::npos) throw SynthError(cfg_label(u, c) + ": no top module in Verilator's XML output");
+  xml = xml.substr(top, xml.find("</module>", top) - top);
   RtlStageFacts f;
   f.max_useful_stages = static_cast<int>(xml_localparam(xml, "MaxUsefulStages"));
   f.out_regs = static_cast<int>(xml_localparam(xml, "OutRegs"));
