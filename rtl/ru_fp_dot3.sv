@@ -45,31 +45,7 @@ module ru_fp_dot3 #(
   localparam int unsigned NLev = 3;
   localparam logic [4*ru_pipe_pkg::MaxLev-1:0] Kinds =
       {52'd0, ru_fp_pkg::KAdd, ru_fp_pkg::KAdd, ru_fp_pkg::KMul};
-  localparam logic [8*ru_pipe_pkg::MaxKind-1:0] NSegs = ru_fp_pkg::op_nsegs(FracW);
-  localparam logic [ru_pipe_pkg::MaxSeg:0] Cuts = ru_pipe_pkg::unit_cuts(
-      Kinds, NLev, NSegs, ru_fp_pkg::op_wts(ExpW, FracW, Subnormals), Stages);
-  localparam logic [ru_pipe_pkg::MaxLev*ru_pipe_pkg::MW-1:0] LevCuts =
-      ru_pipe_pkg::level_cuts_all(Cuts, Kinds, NLev, NSegs);
-  localparam logic [ru_pipe_pkg::MaxLev*32-1:0] LevStages =
-      ru_pipe_pkg::level_stages_all(Cuts, Kinds, NLev, NSegs, Stages);
-  // Useful maximum of Stages (a register at every cut position of the chain) and the registers
-  // placed at the output (those beyond MaxUsefulStages).
-  localparam int unsigned MaxUsefulStages = ru_pipe_pkg::unit_max_useful(Kinds, NLev, NSegs);
-  localparam int unsigned OutRegs = ru_pipe_pkg::out_regs(Cuts, Stages);
-  if (OutRegs != ru_pipe_pkg::extra_regs(Stages, MaxUsefulStages)) begin : gen_out_check
-    $error("ru_fp_dot3: internal error: %0d output registers at Stages %0d", OutRegs, Stages);
-  end
-  // level k: CutSel lcut(k), latency lat(k)
-  function automatic logic [ru_pipe_pkg::MaxSeg:0] lcut(input int unsigned k);
-    lcut = LevCuts[k*ru_pipe_pkg::MW+:ru_pipe_pkg::MW];
-  endfunction
-  function automatic int unsigned lat(input int unsigned k);
-    lat = LevStages[k*32+:32];
-  endfunction
-  if (ru_pipe_pkg::level_span(LevStages, 0, NLev) != Stages) begin : gen_latency_check
-    $error("ru_fp_dot3: internal error: latency %0d != Stages %0d",
-           ru_pipe_pkg::level_span(LevStages, 0, NLev), Stages);
-  end
+  `include "ru_level_chain.svh"
 
   ru_fp_dot3_core #(
     .ExpW(ExpW), .FracW(FracW), .Subnormals(Subnormals), .Round(Round),

@@ -75,37 +75,9 @@ module ru_ray_box #(
   localparam int unsigned NLev = 5;
   localparam logic [4*ru_pipe_pkg::MaxLev-1:0] Kinds = {44'd0, ru_fp_pkg::KCmp, ru_fp_pkg::KCmp,
       ru_fp_pkg::KCmp, ru_fp_pkg::KMul, ru_fp_pkg::KAdd};
-  localparam logic [8*ru_pipe_pkg::MaxKind-1:0] NSegs = ru_fp_pkg::op_nsegs(FracW);
-  localparam logic [ru_pipe_pkg::MaxSeg:0] Cuts = ru_pipe_pkg::unit_cuts(
-      Kinds, NLev, NSegs, ru_fp_pkg::op_wts(ExpW, FracW, Subnormals), Stages);
-  localparam logic [ru_pipe_pkg::MaxLev*ru_pipe_pkg::MW-1:0] LevCuts =
-      ru_pipe_pkg::level_cuts_all(Cuts, Kinds, NLev, NSegs);
-  localparam logic [ru_pipe_pkg::MaxLev*32-1:0] LevStages =
-      ru_pipe_pkg::level_stages_all(Cuts, Kinds, NLev, NSegs, Stages);
-  // Useful maximum of Stages (a register at every cut position of the level chain) and the
-  // registers placed at the output of the last level (those beyond MaxUsefulStages).
-  localparam int unsigned MaxUsefulStages = ru_pipe_pkg::unit_max_useful(Kinds, NLev, NSegs);
-  localparam int unsigned OutRegs = ru_pipe_pkg::out_regs(Cuts, Stages);
-  if (OutRegs != ru_pipe_pkg::extra_regs(Stages, MaxUsefulStages)) begin : gen_out_check
-    $error("ru_ray_box: internal error: %0d output registers at Stages %0d", OutRegs, Stages);
-  end
-  // level k: CutSel lcut(k), latency lat(k); span(a, b) = latency of levels a .. b-1
-  function automatic logic [ru_pipe_pkg::MaxSeg:0] lcut(input int unsigned k);
-    lcut = LevCuts[k*ru_pipe_pkg::MW+:ru_pipe_pkg::MW];
-  endfunction
-  function automatic int unsigned lat(input int unsigned k);
-    lat = LevStages[k*32+:32];
-  endfunction
-  function automatic int unsigned span(input int unsigned first, input int unsigned last);
-    span = ru_pipe_pkg::level_span(LevStages, first, last);
-  endfunction
+  `include "ru_level_chain.svh"
   // data-only delay lines (ru_pipe; the level instances carry the valid bits)
   logic [3:0] unused_dly_valid;
-
-  // The unit's latency: Stages by construction (checked here at elaboration).
-  if (span(0, NLev) != Stages) begin : gen_latency_check
-    $error("ru_ray_box: internal error: latency %0d != Stages %0d", span(0, NLev), Stages);
-  end
 
   function automatic logic f_nan(input logic [W-2:0] x);  // magnitude bits
     f_nan = (&x[W-2:FracW]) & (|x[FracW-1:0]);
