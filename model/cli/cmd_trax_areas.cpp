@@ -95,12 +95,18 @@ int run_trax_areas(int argc, char** argv) {
       std::string cmd = "rayunits";
       for (size_t i = 1; i < args.size(); ++i) cmd += " " + (args[i] == json_path ? std::string("-") : args[i]);
       std::fprintf(stderr, "trax areas: %s\n", cmd.c_str());
-      const synth::ProcResult pr = synth::run_process(args, tmp.path(), tmp.path() + "/log.txt", timeout);
+      // One log per run: an error names this run's last line, not the runs before it.
+      const std::string log_path = tmp.path() + "/" + u + "_" + F.name() + ".log";
+      const synth::ProcResult pr = synth::run_process(args, tmp.path(), log_path, timeout);
+      if (pr.timed_out)
+        throw UsageError("'" + cmd + "' timed out after " + std::to_string(timeout) + " s (raise --timeout)");
       if (pr.exit_code != 0) {
-        std::ifstream lg(tmp.path() + "/log.txt");
-        std::stringstream ss;
-        ss << lg.rdbuf();
-        throw UsageError("'" + cmd + "' failed (exit " + std::to_string(pr.exit_code) + "): " + ss.str());
+        std::ifstream lg(log_path);
+        std::string line, last;
+        while (std::getline(lg, line))
+          if (line.find_first_not_of(" \t\r") != std::string::npos) last = line;
+        throw UsageError("'" + cmd + "' failed (exit " + std::to_string(pr.exit_code) + "): " +
+                         (last.empty() ? std::string("no output") : last));
       }
       std::ifstream jin(json_path);
       const nlohmann::json r = nlohmann::json::parse(jin);
