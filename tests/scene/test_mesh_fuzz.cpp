@@ -60,8 +60,9 @@ struct Text {
   }
 };
 
-std::string off(const Text& t, const std::string& counts = "") {
-  std::string s = "OFF\n" + (counts.empty() ? std::to_string(t.v.size()) + " " + std::to_string(t.f.size()) + " 12" : counts) + "\n";
+// The body OFF and ASCII PLY share: "x y z" per vertex, then "n i0 i1 ..." per face.
+std::string vertex_face_lines(const Text& t) {
+  std::string s;
   for (const auto& p : t.v) s += p[0] + " " + p[1] + " " + p[2] + "\n";
   for (const auto& f : t.f) {
     s += std::to_string(f.size());
@@ -69,6 +70,11 @@ std::string off(const Text& t, const std::string& counts = "") {
     s += "\n";
   }
   return s;
+}
+
+std::string off(const Text& t, const std::string& counts = "") {
+  std::string s = "OFF\n" + (counts.empty() ? std::to_string(t.v.size()) + " " + std::to_string(t.f.size()) + " 12" : counts) + "\n";
+  return s + vertex_face_lines(t);
 }
 
 // OBJ indices are 1-based: the writer adds 1 to plain numbers, other text goes through as is.
@@ -87,13 +93,7 @@ std::string ply_ascii(const Text& t, const std::string& nv = "", const std::stri
   std::string s = "ply\nformat ascii 1.0\nelement vertex " + (nv.empty() ? std::to_string(t.v.size()) : nv) +
                   "\nproperty float x\nproperty float y\nproperty float z\nelement face " +
                   (nf.empty() ? std::to_string(t.f.size()) : nf) + "\nproperty list uchar int vertex_indices\nend_header\n";
-  for (const auto& p : t.v) s += p[0] + " " + p[1] + " " + p[2] + "\n";
-  for (const auto& f : t.f) {
-    s += std::to_string(f.size());
-    for (const auto& i : f) s += " " + i;
-    s += "\n";
-  }
-  return s;
+  return s + vertex_face_lines(t);
 }
 
 template <class V>
