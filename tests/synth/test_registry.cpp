@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
+#include <map>
 #include <regex>
 #include <sstream>
 #include <string>
@@ -149,6 +150,35 @@ TEST(Registry, RtlReadmeTableAgrees) {
     EXPECT_EQ(find_unit(name).max_stages(UnitConfig{Format::parse("e8m23"), 0, {}}), std::stoi(m[1].str()))
         << name;
   }
+}
+
+// README.md lists the fast matrix's one-past-the-maximum Stages at e8m23 ("add 6, mul 12, ...");
+// those numbers must be the registry's maximum + 1 (the registry is checked against the RTL above).
+TEST(Registry, ReadmeOnePastTheMaximumAgrees) {
+  const std::string md = slurp(std::string(RU_SOURCE_DIR) + "/README.md");
+  std::string text;
+  {
+    const std::regex re("one past it, so the output-register path is covered: ([^)]*)\\)");
+    std::smatch m;
+    ASSERT_TRUE(std::regex_search(md, m, re)) << "the fast-matrix sentence is not in README.md";
+    text = m[1].str();
+  }
+  const std::map<std::string, std::string> unit_of = {
+      {"add", "fp_add"}, {"mul", "fp_mul"},   {"div", "fp_div"},   {"cmp", "fp_cmp"},
+      {"dot3", "fp_dot3"}, {"ray_box", "ray_box"}, {"ray_tri_robust", "ray_tri_robust"},
+      {"ray_tri_mt", "ray_tri_mt"}, {"noise", "noise"}};
+  const std::regex item("([a-z_0-9]+)\\s+([0-9]+)");
+  int seen = 0;
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), item); it != std::sregex_iterator(); ++it) {
+    const std::string name = (*it)[1].str();
+    ASSERT_TRUE(unit_of.count(name)) << "unknown unit '" << name << "' in README: " << text;
+    const UnitSpec& u = find_unit(unit_of.at(name));
+    UnitConfig c;
+    if (u.uses_format) c.fmt = Format::parse("e8m23");
+    EXPECT_EQ(std::stoi((*it)[2].str()), u.max_stages(c) + 1) << name;
+    ++seen;
+  }
+  EXPECT_EQ(seen, static_cast<int>(units().size())) << text;
 }
 
 TEST(Registry, ExpressionsEvaluate) {
