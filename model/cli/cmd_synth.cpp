@@ -13,18 +13,22 @@ namespace {
 
 std::string synth_help() {
   return "usage: rayunits synth <unit> --format eXmY --stages N [--round rne|rtz|rdn|rup] [--ftz]\n"
-         "                      [--param Name=V]... [--json FILE|-] [flow options]\n\n"
+         "                      [--param Name=V]... [--json FILE|-] [--flow osu018 [--clock LIST]] [flow options]\n\n"
          "Synthesizes the unit's wrapper with Yosys and reports cell counts, NAND2-equivalent area,\n"
          "transistors (stat -tech cmos), register bits, the gate depth of the worst pipeline stage\n"
-         "(ltp -noff), an estimated Fmax (delay model in synth/README.md), iCE40 LUTs (and nextpnr\n"
-         "Fmax with --fpga) and Xilinx 7-series LUT/DSP counts.\n\n"
+         "(ltp -noff) with the fo4-v1 delay estimate, iCE40 LUTs (and nextpnr Fmax with --fpga) and\n"
+         "Xilinx 7-series LUT/DSP counts. With --flow osu018 (or osu035/osu050) it maps the unit onto\n"
+         "that standard-cell library instead and times it with OpenSTA: area in um2 (combinational\n"
+         "and sequential), worst slack, Fmax, the critical path and its pipeline segment; --clock\n"
+         "gives target clocks (one mapping and one row each). synth/README.md documents both.\n\n"
          "units: " +
          synth::unit_names() +
          "\n\n"
          "  --format eXmY[-ftz]  number format; --ftz: flush to zero; --round: rounding mode (default rne)\n"
          "  --stages N    latency in cycles, 0..the unit's useful maximum (rtl/README.md)\n"
          "  --param N=V   a unit-specific parameter (e.g. noise: FracBits, IntBits, OutW)\n"
-         "  --json FILE   also write the result as one JSON object (\"-\": JSON on stdout, no table)\n\n" +
+         "  --json FILE   also write the result as JSON, one object per target clock (JSON Lines;\n"
+         "                \"-\": on stdout, no table)\n\n" +
          kFlowOptionsHelp;
 }
 
@@ -46,7 +50,8 @@ int run_synth_cmd(int argc, char** argv) {
   const synth::UnitConfig c = make_config(u, app, ca);
   synth::install_interrupt_handler();
   const synth::SynthResult r = synth::run_synth(u, c, fo);
-  const std::string row = synth::to_json(r).dump() + "\n";
+  std::string row;  // one object per target clock: JSON Lines
+  for (const auto& j : synth::to_json_rows(r)) row += j.dump() + "\n";
   if (json_out == "-") {
     std::fputs(row.c_str(), stdout);
   } else {
@@ -58,6 +63,6 @@ int run_synth_cmd(int argc, char** argv) {
 
 }  // namespace
 
-RU_COMMAND("synth", "synthesize one unit with Yosys: area, depth, Fmax estimate, FPGA LUTs", run_synth_cmd);
+RU_COMMAND("synth", "synthesize one unit: Yosys gates and FPGA LUTs, or a cell library with OpenSTA timing", run_synth_cmd);
 
 }  // namespace ru::cli

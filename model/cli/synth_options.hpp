@@ -19,6 +19,11 @@ namespace ru::cli {
 
 inline const char* const kFlowOptionsHelp =
     "flow options:\n"
+    "  --flow NAME         generic (default: Yosys gates, NAND2-eq, FPGA LUTs) or a cell library:\n"
+    "                      osu018, osu035, osu050 (liberty mapping + OpenSTA: um2, slack, Fmax)\n"
+    "  --clock LIST        target clocks of the cell flow, e.g. 400MHz or 2.5ns,2ns,1500ps: one\n"
+    "                      mapping (abc -D) and one STA each (default: no target)\n"
+    "  --sta PATH          OpenSTA binary (default: sta on PATH)\n"
     "  --fpga              also place and route on iCE40 with nextpnr-ice40 (Fmax; slow)\n"
     "  --device hx8k|up5k  iCE40 device (default hx8k)\n"
     "  --no-ice40          skip synth_ice40 LUT counts\n"
@@ -33,7 +38,7 @@ inline const char* const kFlowOptionsHelp =
 
 // Values checked after parsing (with the messages above), as typed.
 struct FlowArgs {
-  std::string device, timeout;
+  std::string device, timeout, flow, clock;
 };
 
 // Sets up `app` the way these three commands parse: the given help text (instead of CLI11's
@@ -64,6 +69,9 @@ inline void add_flow_options(CLI::App& app, synth::FlowOptions& o, FlowArgs& a) 
   app.add_option("--nextpnr", o.nextpnr, "nextpnr-ice40 binary");
   app.add_option("--device", a.device, "iCE40 device: hx8k or up5k");
   app.add_option("--timeout", a.timeout, "kill a tool run after S seconds");
+  app.add_option("--flow", a.flow, "generic or a cell library (osu018, osu035, osu050)");
+  app.add_option("--clock", a.clock, "target clocks of the cell flow");
+  app.add_option("--sta", o.sta, "OpenSTA binary");
   auto flag = [&app](const char* name, std::function<void()> f, const char* what) {
     app.add_flag_callback(name, std::move(f), what)->trigger_on_parse();
   };
@@ -82,6 +90,16 @@ inline void check_flow_options(const CLI::App& app, synth::FlowOptions& o, const
     o.ice40_device = a.device;
   }
   if (app.count("--timeout")) o.timeout_s = synth::parse_int("--timeout", a.timeout, 1, 1000000);
+  if (app.count("--flow")) {
+    synth::check_flow_name(a.flow);
+    o.flow = a.flow;
+  }
+  if (app.count("--clock")) {
+    o.clocks_ps = synth::parse_clock_list("--clock", a.clock);
+    if (!app.count("--flow")) o.flow = "osu018";  // a clock means a timed flow
+    if (!synth::is_cell_flow(o.flow))
+      throw UsageError("--clock needs a cell-library flow (--flow osu018, osu035 or osu050), not --flow generic");
+  }
 }
 
 // Unit configuration options: --format eXmY[-ftz], --stages N, --round MODE, --ftz,

@@ -161,10 +161,11 @@ std::map<std::string, long> stat_cells(const std::string& path, const std::strin
     throw SynthError("cannot parse Yosys statistics '" + path + "': " + e.what());
   }
   const json* m = nullptr;
-  if (j.contains("design"))
-    m = &j["design"];
-  else if (j.contains("modules") && j["modules"].contains("\\" + top))
+  // The module itself first: in the cell flow the design also holds the STA harness.
+  if (j.contains("modules") && j["modules"].contains("\\" + top))
     m = &j["modules"]["\\" + top];
+  else if (j.contains("design"))
+    m = &j["design"];
   else if (j.contains("modules") && j["modules"].size() == 1)
     m = &j["modules"].begin().value();
   if (!m || !m->contains("num_cells_by_type"))
@@ -281,16 +282,106 @@ std::string yosys_version(const std::string& yosys) {
   return v;
 }
 
+std::string cell_premap_script(const CellLibrary& lib, const std::vector<std::string>& sources,
+                               const std::string& unit_top, bool share) {
+  std::string s = "read_liberty -lib " + quote(lib.liberty) + "\n" + read_sources(sources);
+  s += "read_verilog -sv sta_harness.sv\n";
+  s += "hierarchy -check -top ru_sta_harness\n";
+  // The unit stays one module (flattened inside): its area is reported without the harness.
+  s += "setattr -mod -set keep_hierarchy 1 " + unit_top + "\n";
+  s += std::string("synth -flatten") + (share ? "" : " -noshare") + " -top ru_sta_harness\n";
+  s += "dfflibmap -liberty " + quote(lib.liberty) + "\n";
+  s += "write_rtlil premap.il\n";
+  return s;
+}
+
+std::string cell_abc_script(double target_ps) {
+  // With a target: ABC's standard-cell timing flow -- delay-targeted mapping, then buffering
+  // and gate sizing towards the target (the library has X1..X8 drive strengths). Its `&nf`
+  // mapper, which Yosys's own `abc -D` runs, gave the same netlist for every -D here (fp_add
+  // e5m10: 1 ns, 4 ns and 20 ns alike), so it cannot make an area-delay curve.
+  // Without a target: Yosys's default liberty script (what `abc -liberty` runs).
+  if (target_ps <= 0) return "strash\n&get -n\n&fraig -x\n&put\nscorr\ndc2\ndretime\nstrash\n&get -n\n&dch -f\n&nf\n&put\n";
+  const std::string d = fmt_num(target_ps, 0);
+  return "strash\nifraig\nscorr\ndc2\nstrash\ndch -f\nmap -D " + d + "\nbuffer -p\nupsize -D " + d +
+         "\ndnsize -D " + d + "\n";
+}
+
+std::string cell_map_script(const CellLibrary& lib, const std::string& stem) {
+  std::string s = "read_liberty -lib " + quote(lib.liberty) + "\nread_rtlil premap.il\n";
+  s += "abc -liberty " + quote(lib.liberty) + " -script " + stem + ".abc\n";
+  // -purge and -simple-lhs: no `assign {a, b} = ...`, which OpenSTA cannot read.
+  s += "opt_clean -purge\ncheck -assert\n";
+  s += "tee -q -o " + stem + ".json stat -json\n";
+  s += "tee -q -o " + stem + ".txt stat -liberty " + quote(lib.liberty) + "\n";
+  s += "write_verilog -noattr -noexpr -simple-lhs " + stem + ".v\n";
+  return s;
+}
+
+namespace {
+
+CellResult run_cell_flow(const std::vector<std::string>& abs_sources, const std::string& top,
+                         const std::vector<Port>& ports, const std::string& dir, const FlowOptions& o,
+                         const std::string& yosys) {
+  CellResult c;
+  c.run = true;
+  const CellLibrary& lib = cell_library(o.flow);
+  c.library = lib.name;
+  c.liberty = lib.liberty;
+  c.sta_version = sta_version(o.sta);
+  c.fo4_ps = measure_fo4_ps(lib, o.sta);
+  write_file_atomic(dir + "/sta_harness.sv", sta_harness_verilog(top, ports));
+  c.premap_s = run_yosys(yosys, "cell flow: synth + dfflibmap", cell_premap_script(lib, abs_sources, top, o.share),
+                         dir, "cell_premap", o.timeout_s);
+  int stages = 0;  // register levels of the unit, for the segment numbering
+  std::vector<double> clocks = o.clocks_ps;
+  if (clocks.empty()) clocks.push_back(0);
+  for (size_t k = 0; k < clocks.size(); ++k) {
+    CellRun run;
+    run.target_ps = clocks[k];
+    const std::string stem = "cell_" + std::to_string(k);
+    write_file_atomic(dir + "/" + stem + ".abc", cell_abc_script(clocks[k]));
+    run.yosys_s = run_yosys(yosys, "cell flow: abc -liberty" + (clocks[k] > 0 ? " -D " + fmt_num(clocks[k], 0) : ""),
+                            cell_map_script(lib, stem), dir, stem, o.timeout_s);
+    run.cells = stat_cells(dir + "/" + stem + ".json", top);
+    run.area = cell_area(lib, run.cells);
+    {
+      // Self-check against Yosys's own total (stat -liberty): the same cells, the same areas.
+      const std::string txt = read_file(dir + "/" + stem + ".txt");
+      std::smatch m;
+      const std::regex re("Chip area for module '\\\\" + top + "': ([0-9.]+)");
+      if (!std::regex_search(txt, m, re)) throw SynthError("no chip area for " + top + " in " + dir + "/" + stem + ".txt");
+      const double y = std::stod(m[1]);
+      if (std::fabs(y - run.area.total) > 1e-6 * std::max(1.0, y))
+        throw SynthError("cell area of " + top + ": Yosys says " + fmt_num(y, 3) + ", the liberty's cell areas give " +
+                         fmt_num(run.area.total, 3));
+    }
+    const double period = clocks[k] > 0 ? clocks[k] : kUntargetedPeriodPs;
+    const auto t1 = std::chrono::steady_clock::now();
+    run.sta = run_sta(lib, o.sta, dir + "/" + stem + ".v", "ru_sta_harness", period, stages, dir, stem + "_sta",
+                      o.timeout_s);
+    run.sta_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
+    run.achieved_ps = period - run.sta.slack_ps;
+    run.fmax_mhz = 1e6 / run.achieved_ps;
+    c.runs.push_back(std::move(run));
+  }
+  return c;
+}
+
+}  // namespace
+
 SynthResult run_flow(const std::vector<std::string>& sources, const std::string& top,
                      const std::vector<Port>& ports, const std::string& dir, const FlowOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
   SynthResult r;
+  check_flow_name(o.flow);
+  r.flow = o.flow;
   r.top = top;
   r.yosys_version = yosys_version(o.yosys);
   r.share = o.share;
   const std::string yosys = find_program(o.yosys);
   std::string nextpnr;
-  if (o.pnr) {
+  if (o.pnr && !is_cell_flow(o.flow)) {
     nextpnr = find_program(o.nextpnr);
     if (nextpnr.empty())
       throw SynthError("nextpnr-ice40 not found ('" + o.nextpnr +
@@ -298,6 +389,17 @@ SynthResult run_flow(const std::vector<std::string>& sources, const std::string&
   }
   std::vector<std::string> abs_sources;
   for (const auto& s : sources) abs_sources.push_back(fs::absolute(s).lexically_normal().string());
+
+  if (is_cell_flow(o.flow)) {
+    r.cell = run_cell_flow(abs_sources, top, ports, dir, o, yosys);
+    for (size_t k = 0; k < r.cell.runs.size(); ++k) {
+      r.step_seconds["cell_map_" + std::to_string(k)] = r.cell.runs[k].yosys_s;
+      r.step_seconds["sta_" + std::to_string(k)] = r.cell.runs[k].sta_s;
+    }
+    r.step_seconds["cell_premap"] = r.cell.premap_s;
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    return r;
+  }
 
   // 1. Generic gates: area, transistors, registers, depth of the worst stage.
   r.step_seconds["generic"] =
@@ -434,7 +536,13 @@ SynthResult run_synth(const UnitSpec& u, const UnitConfig& c, const FlowOptions&
   const Sources src = resolve_sources(u, rtl);
   std::vector<std::string> sources = src.files;
   yosys_version(o.yosys);  // a missing yosys is reported before any work
-  if (o.ice40) device(o.ice40_device);
+  check_flow_name(o.flow);
+  if (is_cell_flow(o.flow)) {  // a missing library or sta is reported before any work
+    cell_library(o.flow);
+    sta_version(o.sta);
+  } else if (o.ice40) {
+    device(o.ice40_device);
+  }
   TempDir tmp("ru-synth-" + u.name + "-", o.temp_parent);
   if (o.keep_temp) tmp.keep();
   const std::string top = wrapper_name(u, c);
@@ -445,18 +553,58 @@ SynthResult run_synth(const UnitSpec& u, const UnitConfig& c, const FlowOptions&
   fo.share = o.share && u.synth_share;
   try {
     r = run_flow(sources, top, ports_for(u, c), tmp.path(), fo);
-  } catch (const ToolError&) {
-    tmp.keep();  // the message names a log inside it
+  } catch (const SynthError& e) {
+    if (std::string(e.what()).find("(log: ") != std::string::npos) tmp.keep();  // the message names a log inside it
     throw;
   }
   r.unit = u.name;
   r.cfg = c;
   r.rtl_hash = sources_hash(src);
+  for (auto& run : r.cell.runs) run.sta.path.segments = c.stages + 1;
   if (o.keep_temp) r.temp_dir = tmp.path();
   return r;
 }
 
-json to_json(const SynthResult& r) {
+namespace {
+
+double round_to(double v, double unit) { return std::round(v / unit) * unit; }
+
+// The fields of a cell-flow row (synth/README.md, "Row schema").
+void cell_fields(json& j, const CellResult& c, const CellRun& run) {
+  j["library"] = c.library;
+  j["liberty"] = c.liberty;
+  j["wire_load"] = "none (the liberty has no wire-load model: before placement)";
+  j["target_clock_ps"] = run.target_ps > 0 ? json(run.target_ps) : json(nullptr);
+  j["target_clock_mhz"] = run.target_ps > 0 ? json(round_to(1e6 / run.target_ps, 0.01)) : json(nullptr);
+  j["sta_period_ps"] = run.sta.period_ps;
+  j["slack_ps"] = round_to(run.sta.slack_ps, 0.1);
+  j["tns_ps"] = round_to(run.sta.tns_ps, 0.1);
+  j["met"] = run.target_ps > 0 ? json(run.sta.slack_ps >= 0) : json(nullptr);
+  j["period_ps"] = round_to(run.achieved_ps, 0.1);
+  j["fmax_mhz"] = round_to(run.fmax_mhz, 0.1);
+  j["fo4_ps"] = round_to(c.fo4_ps, 0.01);
+  j["period_fo4"] = round_to(run.achieved_ps / c.fo4_ps, 0.01);
+  j["area_um2"] = round_to(run.area.total, 0.01);
+  j["area_comb_um2"] = round_to(run.area.comb, 0.01);
+  j["area_seq_um2"] = round_to(run.area.seq, 0.01);
+  j["cell_count"] = run.area.cells;
+  j["seq_cells"] = run.area.seq_cells;
+  j["cells"] = run.cells;
+  const StaPath& p = run.sta.path;
+  j["critical_path"] = {{"start", p.start},
+                        {"end", p.end},
+                        {"segment", p.segment > 0 ? json(p.segment) : json(nullptr)},
+                        {"segments", p.segments},
+                        {"clk_to_q_ps", round_to(p.clk_to_q_ps, 0.1)},
+                        {"logic_ps", round_to(p.logic_ps, 0.1)},
+                        {"setup_ps", round_to(p.setup_ps, 0.1)},
+                        {"cells", p.cells}};
+  j["sta"] = c.sta_version;
+}
+
+}  // namespace
+
+std::vector<json> to_json_rows(const SynthResult& r) {
   const auto& g = r.generic;
   json j;
   j["unit"] = r.unit;
@@ -481,6 +629,25 @@ json to_json(const SynthResult& r) {
   j["stages"] = r.cfg.stages;
   j["latency"] = r.cfg.stages;
   j["throughput"] = 1;  // operations per cycle (fully pipelined)
+  j["flow"] = r.flow;
+  if (r.cell.run) {
+    std::vector<json> rows;
+    for (const CellRun& run : r.cell.runs) {
+      json c = j;
+      cell_fields(c, r.cell, run);
+      c["resource_sharing"] = r.share;
+      c["yosys"] = r.yosys_version;
+      if (!r.rtl_hash.empty()) c["rtl_hash"] = r.rtl_hash;
+      c["seconds"] = round_to(run.yosys_s + run.sta_s + r.cell.premap_s / r.cell.runs.size(), 0.01);
+      c["step_seconds"] = {{"premap_shared", round_to(r.cell.premap_s, 0.01)},
+                           {"abc_map", round_to(run.yosys_s, 0.01)},
+                           {"sta", round_to(run.sta_s, 0.01)}};
+      if (!r.temp_dir.empty()) c["temp_dir"] = r.temp_dir;
+      rows.push_back(std::move(c));
+    }
+    return rows;
+  }
+  j["library"] = nullptr;
   j["cells"] = g.cells;
   j["cells_total"] = g.cells_total;
   j["area_nand2"] = std::round(g.area_nand2 * 100) / 100;
@@ -526,8 +693,10 @@ json to_json(const SynthResult& r) {
   for (const auto& [k, v] : r.step_seconds) steps[k] = std::round(v * 100) / 100;
   j["step_seconds"] = steps;
   if (!r.temp_dir.empty()) j["temp_dir"] = r.temp_dir;
-  return j;
+  return {j};
 }
+
+json to_json(const SynthResult& r) { return to_json_rows(r).front(); }
 
 std::string format_table(const SynthResult& r) {
   const auto& g = r.generic;
@@ -539,6 +708,35 @@ std::string format_table(const SynthResult& r) {
     std::snprintf(b, sizeof b, "  %-15s ", k);
     o << b << v << "\n";
   };
+  if (r.cell.run) {
+    const CellResult& c = r.cell;
+    for (const CellRun& run : c.runs) {
+      const StaPath& p = run.sta.path;
+      const std::string target =
+          run.target_ps > 0 ? fmt_num(run.target_ps, 0) + " ps (" + fmt_num(1e6 / run.target_ps, 1) + " MHz)"
+                            : std::string("none (abc without -D)");
+      row("target clock", target);
+      row("area", fmt_num(run.area.total, 0) + " um2 (" + c.library + "): comb " + fmt_num(run.area.comb, 0) +
+                      ", seq " + fmt_num(run.area.seq, 0) + "; " + std::to_string(run.area.cells) + " cells, " +
+                      std::to_string(run.area.seq_cells) + " flip-flops");
+      std::string timing = "slack " + fmt_num(run.sta.slack_ps, 0) + " ps at " + fmt_num(run.sta.period_ps, 0) +
+                           " ps -> Fmax " + fmt_num(run.fmax_mhz, 1) + " MHz (" + fmt_num(run.achieved_ps, 0) +
+                           " ps = " + fmt_num(run.achieved_ps / c.fo4_ps, 1) + " FO4)";
+      if (run.target_ps > 0) timing += run.sta.slack_ps >= 0 ? ", met" : ", VIOLATED";
+      row("timing", timing);
+      row("critical path",
+          p.start + " -> " + p.end + (p.segment > 0 ? ", segment " + std::to_string(p.segment) + " of " +
+                                                          std::to_string(p.segments)
+                                                    : std::string()) +
+              ": clk-to-Q " + fmt_num(p.clk_to_q_ps, 0) + " + logic " + fmt_num(p.logic_ps, 0) + " ps (" +
+              std::to_string(p.cells) + " cells) + setup " + fmt_num(p.setup_ps, 0) + " ps");
+    }
+    row("library", c.liberty + ", FO4 " + fmt_num(c.fo4_ps, 1) + " ps (sta), no wire-load model (pre-placement)");
+    row("tools", r.yosys_version + ", " + c.sta_version + ", " + fmt_num(r.seconds, 1) + " s" +
+                     (r.share ? std::string() : ", synth -noshare (no resource sharing)"));
+    if (!r.temp_dir.empty()) row("kept", r.temp_dir);
+    return o.str();
+  }
   row("area", fmt_num(g.area_nand2, 1) + " NAND2-eq, " + std::to_string(g.cells_total) + " cells, " +
                   std::to_string(g.reg_bits) + " register bits");
   row("transistors",
@@ -546,8 +744,8 @@ std::string format_table(const SynthResult& r) {
           (g.transistors_complete ? " (stat -tech cmos)"
                                   : "+ (stat -tech cmos; " + std::to_string(g.transistors_uncounted) +
                                         " flops with reset/enable not counted)"));
-  row("worst stage", std::to_string(g.depth) + " gate levels (ltp -noff) -> " + fmt_num(g.stage_ps, 0) +
-                         " ps -> est. Fmax " + fmt_num(g.fmax_mhz, 0) + " MHz (" + DelayModel::kName + ")");
+  row("worst stage", std::to_string(g.depth) + " gate levels (ltp -noff); " + DelayModel::kName +
+                         " estimate " + fmt_num(g.stage_ps, 0) + " ps (not a timing: --flow osu018 runs STA)");
   std::string cells;
   for (const auto& [t, n] : g.cells) cells += (cells.empty() ? "" : ", ") + t + " " + std::to_string(n);
   row("cells", cells);

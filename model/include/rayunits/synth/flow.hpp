@@ -8,11 +8,19 @@
 #include <string>
 #include <vector>
 
+#include "rayunits/synth/cell.hpp"
 #include "rayunits/synth/units.hpp"
 
 namespace ru::synth {
 
 struct FlowOptions {
+  // "generic" (Yosys gates: NAND2-eq, fo4-v1 estimate, plus the FPGA flows below) or a cell
+  // library (osu018, osu035, osu050: liberty mapping and OpenSTA; the FPGA flows do not run).
+  std::string flow = "generic";
+  // Target clock periods of the cell flow in ps (abc -D and the STA clock), one result each;
+  // empty: one run mapped without a delay target and timed at kUntargetedPeriodPs.
+  std::vector<double> clocks_ps;
+  std::string sta = "sta";      // OpenSTA
   std::string yosys = "yosys";  // name on PATH or a path
   std::string nextpnr = "nextpnr-ice40";
   std::string rtl_dir;                // empty: default_rtl_dir()
@@ -77,10 +85,35 @@ struct XilinxResult {
   long lcs = 0;  // `stat -tech xilinx` estimate
 };
 
+// One mapping of the cell flow at one target clock.
+struct CellRun {
+  double target_ps = 0;  // 0: mapped without a delay target
+  std::map<std::string, long> cells;  // of the unit module (harness registers excluded)
+  CellArea area;
+  StaResult sta;
+  double achieved_ps = 0;  // period - slack: the shortest clock period this netlist meets
+  double fmax_mhz = 0;
+  double yosys_s = 0, sta_s = 0;
+};
+
+// The STA clock of a mapping without a target: any period gives the same achieved period
+// (period - slack) as long as the same path is worst; this one is long enough to be met.
+constexpr double kUntargetedPeriodPs = 100000;
+
+struct CellResult {
+  bool run = false;
+  std::string library, liberty, sta_version;
+  double fo4_ps = 0;  // measure_fo4_ps
+  double premap_s = 0;  // Yosys synth + dfflibmap, shared by all clocks
+  std::vector<CellRun> runs;  // one per target clock, in the order given
+};
+
 struct SynthResult {
   std::string unit, top;
   UnitConfig cfg;
-  GenericResult generic;
+  std::string flow = "generic";
+  GenericResult generic;  // generic flow only
+  CellResult cell;        // cell flows only
   Ice40Result ice40;
   XilinxResult xilinx;
   std::string yosys_version;
@@ -107,7 +140,18 @@ std::string generic_script(const std::vector<std::string>& sources, const std::s
 
 std::string yosys_version(const std::string& yosys);  // "Yosys 0.23 (git sha1 ...)"; throws if missing
 
-// JSON row (one object per run) and the human table.
+// The Yosys scripts of the cell flow: the mapping up to flip-flops (writes premap.il), and the
+// combinational mapping at one target clock (`abc -liberty -D`; target_ps 0: no -D) that writes
+// <stem>.v, <stem>.json (stat -json) and <stem>.txt (stat -liberty).
+std::string cell_premap_script(const CellLibrary& lib, const std::vector<std::string>& sources,
+                               const std::string& unit_top, bool share);
+// reading the ABC script <stem>.abc, which is cell_abc_script(target_ps).
+std::string cell_map_script(const CellLibrary& lib, const std::string& stem);
+std::string cell_abc_script(double target_ps);
+
+// JSON rows: the synthesis row schema (synth/README.md, "Row schema"): one object per (unit,
+// configuration, flow, target clock). to_json is the first (the generic flow has one).
+std::vector<nlohmann::json> to_json_rows(const SynthResult& r);
 nlohmann::json to_json(const SynthResult& r);
 std::string format_table(const SynthResult& r);
 
