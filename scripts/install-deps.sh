@@ -9,6 +9,10 @@ PKGS=(
   libgmp-dev libmpfr-dev libfftw3-dev
   libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libstb-dev
   python3 python3-matplotlib python3-numpy libassimp-dev
+  # The cell-library flow (synth --flow osu018): the liberty, OpenSTA, ABC, and qflow's back
+  # end for place and route (synth/pnr). --no-install-recommends: each is named.
+  qflow-tech-osu018 qflow-tech-osu035 qflow-tech-osu050 opensta berkeley-abc
+  qflow graywolf qrouter magic netgen-lvs
 )
 if [[ "${1:-}" == "--long" ]]; then PKGS+=(assimp-testmodels libcgal-demo); fi
 missing=()
