@@ -69,8 +69,9 @@ CellLibrary parse_liberty(const std::string& name, const std::string& path) {
     }
   }
   if (lib.area.empty()) throw SynthError("no cells in liberty file '" + path + "'");
-  for (const auto& [c, a] : lib.area)
-    if (a < 0) throw SynthError("cell " + c + " has no area in liberty file '" + path + "'");
+  // A cell without an area (osu035's pad cells) cannot be costed: it is left out, and a netlist
+  // that uses it fails in cell_area() ("not in the library").
+  for (auto it = lib.area.begin(); it != lib.area.end();) it = it->second < 0 ? lib.area.erase(it) : std::next(it);
   if (!lib.area.count(lib.flop_cell) || !lib.flops.count(lib.flop_cell) || !lib.area.count(lib.inv_cell))
     throw SynthError("liberty file '" + path + "' lacks " + lib.flop_cell + " or " + lib.inv_cell +
                      " (the harness flip-flop and the FO4 inverter)");
@@ -86,13 +87,18 @@ const CellLibrary& cell_library(const std::string& name) {
   if (auto it = cache.find(name); it != cache.end()) return it->second;
   const char* env = std::getenv("RU_CELL_LIB_DIR");
   const std::string dir = env && *env ? std::string(env) + "/" + name : "/usr/share/qflow/tech/" + name;
-  const std::string lib = dir + "/" + name + "_stdcells.lib";
+  // Files are <name>_stdcells.*, except osu050's, which are osu05_stdcells.*.
+  std::string stem = dir + "/" + name + "_stdcells";
+  if (!fs::exists(stem + ".lib") && name.size() > 4 && name.back() == '0' &&
+      fs::exists(dir + "/" + name.substr(0, name.size() - 1) + "_stdcells.lib"))
+    stem = dir + "/" + name.substr(0, name.size() - 1) + "_stdcells";
+  const std::string lib = stem + ".lib";
   if (!fs::exists(lib))
     throw SynthError("cell library " + name + " not found: no " + lib + " (install the Debian package qflow-tech-" +
                      name + ", or set RU_CELL_LIB_DIR)");
   CellLibrary l = parse_liberty(name, lib);
-  if (fs::exists(dir + "/" + name + "_stdcells.v")) l.verilog = dir + "/" + name + "_stdcells.v";
-  if (fs::exists(dir + "/" + name + "_stdcells.lef")) l.lef = dir + "/" + name + "_stdcells.lef";
+  if (fs::exists(stem + ".v")) l.verilog = stem + ".v";
+  if (fs::exists(stem + ".lef")) l.lef = stem + ".lef";
   return cache.emplace(name, std::move(l)).first->second;
 }
 
