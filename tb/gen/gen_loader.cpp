@@ -1,7 +1,11 @@
 // rayunits tb: tb_gen_loader — the cycle-by-cycle scoreboard on a module made by `rayunits gen`.
 //
-//   tb_gen_loader --dut=libdut.so --datasheet=DIR/datasheet.json [tb options] [gtest options]
+//   tb_gen_loader --dut=libdut.so --datasheet=DIR/datasheet.json [--config-name=NAME] [--tag=T]...
+//                 [tb options] [gtest options]
 //   (or RU_GEN_DUT / RU_GEN_DATASHEET in the environment)
+//   --config-name  the configuration's name (suite <unit>_<NAME>; default gen_<format>_s<N>, from
+//                  the top), e.g. gls_e5m10_s2 for the gate-level netlist of tb/gls
+//   --tag          adds a tag to the configuration (e.g. exhaustive); "selftest" is always set
 //
 // A generated wrapper only exists after `rayunits` has run, so it cannot be verilated at CMake
 // configure time like the fixed test matrix. Instead tb/gen/gen_test.cmake verilates it at test
@@ -23,6 +27,7 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "rayunits/tb/fp.hpp"
 #include "rayunits/tb/testing.hpp"
@@ -50,7 +55,8 @@ int64_t int_field(const json& j, const char* key, const std::string& file) {
 }
 
 // Registers the generated module as one configuration of its unit's test plan.
-void load(const std::string& dut_path, const std::string& ds_path) {
+void load(const std::string& dut_path, const std::string& ds_path, const std::string& name,
+          const std::vector<std::string>& tags) {
   std::ifstream in(ds_path);
   if (!in) throw err("cannot read the datasheet " + ds_path);
   json ds;
@@ -87,6 +93,7 @@ void load(const std::string& dut_path, const std::string& ds_path) {
   d.unit = unit;
   const std::string stem = "ru_" + unit + "_";
   d.name = "gen_" + (top.rfind(stem, 0) == 0 ? top.substr(stem.size()) : top);  // gen_e7m16_s3
+  if (!name.empty()) d.name = name;  // --config-name, e.g. gls_e5m10_s2
   d.prefix = "V" + top;
   d.params = {{"ExpW", int_field(fmt, "exp_bits", ds_path)},
               {"FracW", int_field(fmt, "frac_bits", ds_path)},
@@ -94,6 +101,8 @@ void load(const std::string& dut_path, const std::string& ds_path) {
               {"Round", round_code},
               {"Stages", latency}};
   d.tags = {"selftest"};
+  for (const std::string& t : tags)
+    if (t != "selftest") d.tags.push_back(t);
   d.make = [make](const ru::tb::DutOptions& o) {
     std::unique_ptr<ru::tb::Dut> p(make(&o));
     if (!p) throw std::runtime_error("ru_gen_make_dut returned null");
@@ -108,7 +117,8 @@ void load(const std::string& dut_path, const std::string& ds_path) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string dut, ds;
+  std::string dut, ds, name;
+  std::vector<std::string> tags;
   if (const char* e = std::getenv("RU_GEN_DUT")) dut = e;
   if (const char* e = std::getenv("RU_GEN_DATASHEET")) ds = e;
   int out = 1;
@@ -118,6 +128,10 @@ int main(int argc, char** argv) {
       dut = a.substr(6);
     else if (a.rfind("--datasheet=", 0) == 0)
       ds = a.substr(12);
+    else if (a.rfind("--config-name=", 0) == 0)
+      name = a.substr(14);
+    else if (a.rfind("--tag=", 0) == 0)
+      tags.push_back(a.substr(6));
     else
       argv[out++] = argv[i];
   }
@@ -131,9 +145,11 @@ int main(int argc, char** argv) {
   }
   // Rerun hints printed with a mismatch must name the same DUT.
   ru::tb::global_options().argv0 += " --dut=" + dut + " --datasheet=" + ds;
+  if (!name.empty()) ru::tb::global_options().argv0 += " --config-name=" + name;
+  for (const std::string& t : tags) ru::tb::global_options().argv0 += " --tag=" + t;
   ::testing::InitGoogleTest(&argc, argv);
   try {
-    load(dut, ds);
+    load(dut, ds, name, tags);
     if (!ru::tb::register_all_tests()) return 2;
   } catch (const std::exception& e) {
     std::cerr << "error: " << e.what() << "\n";
