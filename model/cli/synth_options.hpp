@@ -133,7 +133,8 @@ inline synth::UnitConfig make_config(const synth::UnitSpec& u, const CLI::App& a
     params[v.substr(0, eq)] =
         synth::parse_int("--param " + v.substr(0, eq), v.substr(eq + 1), -1000000, 1000000);
   }
-  const int stages = app.count("--stages") ? synth::parse_int("--stages", a.stages, 0, 1000) : -1;
+  const int stages =
+      app.count("--stages") || !a.stages.empty() ? synth::parse_int("--stages", a.stages, 0, 1000) : -1;
   if (u.uses_format) {
     if (a.format.empty()) throw UsageError("--format eXmY is required (e.g. --format e7m16)");
     c.fmt = num::Format::parse(a.format);

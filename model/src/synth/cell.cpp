@@ -316,7 +316,7 @@ StaResult run_sta(const CellLibrary& lib, const std::string& sta, const std::str
       if (line.find("data arrival time") != std::string::npos) break;
       if (std::regex_match(line, cell_line)) ++n;
     }
-    r.path.cells = std::max(0, n - 1);  // minus the start register's CLK->Q line
+    r.path.cells = std::max(0, n - 3);  // minus the start register's CLK and Q and the end's D line
   }
   r.path.segments = stages + 1;
   if (std::regex_search(text, m, std::regex(R"re(RU_END_LEVEL (-?\d+))re"))) {

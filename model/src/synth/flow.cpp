@@ -300,10 +300,12 @@ std::string cell_abc_script(double target_ps) {
   // and gate sizing towards the target (the library has X1..X8 drive strengths). Its `&nf`
   // mapper, which Yosys's own `abc -D` runs, gave the same netlist for every -D here (fp_add
   // e5m10: 1 ns, 4 ns and 20 ns alike), so it cannot make an area-delay curve.
+  // `topo` after `map`: buffer/upsize need a topologically ordered network (without it ABC
+  // aborts with "node N has no fanout" at an unreachable target, fp_add e5m10 at 500 ps).
   // Without a target: Yosys's default liberty script (what `abc -liberty` runs).
   if (target_ps <= 0) return "strash\n&get -n\n&fraig -x\n&put\nscorr\ndc2\ndretime\nstrash\n&get -n\n&dch -f\n&nf\n&put\n";
   const std::string d = fmt_num(target_ps, 0);
-  return "strash\nifraig\nscorr\ndc2\nstrash\ndch -f\nmap -D " + d + "\nbuffer -p\nupsize -D " + d +
+  return "strash\nifraig\nscorr\ndc2\nstrash\ndch -f\nmap -D " + d + "\ntopo\nbuffer -p\nupsize -D " + d +
          "\ndnsize -D " + d + "\n";
 }
 
@@ -567,7 +569,7 @@ SynthResult run_synth(const UnitSpec& u, const UnitConfig& c, const FlowOptions&
 
 namespace {
 
-double round_to(double v, double unit) { return std::round(v / unit) * unit; }
+double round_to(double v, double unit) { return std::round(v / unit) / std::round(1 / unit); }  // unit 0.1, 0.01
 
 // The fields of a cell-flow row (synth/README.md, "Row schema").
 void cell_fields(json& j, const CellResult& c, const CellRun& run) {

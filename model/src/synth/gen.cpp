@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <cmath>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -35,6 +37,49 @@ std::string sibling_temp(const fs::path& target, const char* tag) {
 }
 
 }  // namespace
+
+ClockSearch find_stages_for_clock(const UnitSpec& u, UnitConfig c, double clock_ps, const FlowOptions& o,
+                                  const std::function<void(const std::string&)>& progress) {
+  if (!is_cell_flow(o.flow)) throw SynthError("a target clock needs a cell-library flow (osu018, osu035, osu050)");
+  FlowOptions fo = o;
+  fo.clocks_ps = {clock_ps};
+  ClockSearch cs;
+  std::map<int, SynthResult> done;
+  auto probe = [&](int stages) -> bool {
+    c.stages = stages;
+    SynthResult r = run_synth(u, c, fo);
+    const CellRun& run = r.cell.runs.front();
+    const bool met = run.sta.slack_ps >= 0;
+    cs.probes.push_back({{"stages", stages},
+                         {"fmax_mhz", std::round(run.fmax_mhz * 10) / 10},
+                         {"slack_ps", std::round(run.sta.slack_ps * 10) / 10},
+                         {"met", met},
+                         {"area_um2", std::round(run.area.total * 100) / 100}});
+    if (progress)
+      progress("gen: " + config_args(u, c) + ": " + num_str(run.fmax_mhz, 1) + " MHz, slack " +
+               num_str(run.sta.slack_ps, 0) + " ps at " + num_str(clock_ps, 0) + " ps: " + (met ? "met" : "missed"));
+    done.emplace(stages, std::move(r));
+    return met;
+  };
+  const int lo0 = u.min_stages, hi0 = u.max_stages(c);
+  if (!probe(hi0)) {
+    const CellRun& run = done.at(hi0).cell.runs.front();
+    throw SynthError(u.name + " does not reach " + num_str(1e6 / clock_ps, 1) + " MHz (" + num_str(clock_ps, 0) +
+                     " ps) in " + o.flow + ": at its maximum useful Stages " + std::to_string(hi0) + " it reaches " +
+                     num_str(run.fmax_mhz, 1) + " MHz (" + num_str(run.achieved_ps, 0) + " ps)");
+  }
+  int lo = lo0, hi = hi0;  // hi meets; find the smallest meeting count in lo..hi
+  while (lo < hi) {
+    const int mid = lo + (hi - lo) / 2;
+    if (probe(mid))
+      hi = mid;
+    else
+      lo = mid + 1;
+  }
+  cs.stages = hi;
+  cs.result = done.at(hi);
+  return cs;
+}
 
 json datasheet_json(const UnitSpec& u, const UnitConfig& c, const std::vector<std::string>& files,
                     const std::optional<SynthResult>& synth) {
@@ -66,7 +111,14 @@ json datasheet_json(const UnitSpec& u, const UnitConfig& c, const std::vector<st
                      {"description", p.doc}});
   ds["ports"] = ports;
   ds["files"] = files;
-  if (synth) {
+  if (synth && synth->cell.run) {
+    json row = to_json(*synth);
+    for (const char* k : {"seconds", "step_seconds", "temp_dir"}) row.erase(k);
+    for (const char* k : {"flow", "library", "target_clock_mhz", "target_clock_ps", "met", "slack_ps", "fmax_mhz",
+                          "period_ps", "period_fo4", "area_um2", "area_comb_um2", "area_seq_um2"})
+      ds[k] = row[k];
+    ds["synthesis"] = row;
+  } else if (synth) {
     json row = to_json(*synth);
     row.erase("seconds");
     row.erase("step_seconds");
@@ -102,7 +154,32 @@ std::string datasheet_markdown(const json& ds) {
       << "| rounding | " << ds["round"].get<std::string>() << " |\n";
   o << "| latency | " << ds["latency"].get<int>() << " cycles |\n"
     << "| throughput | 1 operation per cycle (fully pipelined) |\n";
-  if (!ds["synthesis"].is_null()) {
+  if (!ds["synthesis"].is_null() && ds["synthesis"].contains("area_um2")) {
+    const json& s = ds["synthesis"];
+    const std::string lib = s["library"].get<std::string>();
+    o << "| area | " << num_str(s["area_um2"].get<double>(), 0) << " um2 in " << lib << " (combinational "
+      << num_str(s["area_comb_um2"].get<double>(), 0) << ", sequential " << num_str(s["area_seq_um2"].get<double>(), 0)
+      << "; " << s["cell_count"].get<long>() << " cells), before placement |\n";
+    if (!s["target_clock_ps"].is_null())
+      o << "| target clock | " << num_str(s["target_clock_mhz"].get<double>(), 1) << " MHz ("
+        << num_str(s["target_clock_ps"].get<double>(), 0) << " ps): "
+        << (s["met"].get<bool>() ? "met" : "NOT met") << ", slack " << num_str(s["slack_ps"].get<double>(), 0)
+        << " ps |\n";
+    const json& p = s["critical_path"];
+    o << "| Fmax (OpenSTA) | " << num_str(s["fmax_mhz"].get<double>(), 1) << " MHz = "
+      << num_str(s["period_ps"].get<double>(), 0) << " ps = " << num_str(s["period_fo4"].get<double>(), 1)
+      << " FO4 (FO4 " << num_str(s["fo4_ps"].get<double>(), 1) << " ps); critical path in segment "
+      << (p["segment"].is_null() ? std::string("?") : std::to_string(p["segment"].get<int>())) << " of "
+      << p["segments"].get<int>() << " |\n";
+    if (ds.contains("clock_search")) {
+      o << "| Stages search | ";
+      for (const auto& pr : ds["clock_search"]["probes"])
+        o << "Stages " << pr["stages"].get<int>() << ": " << num_str(pr["fmax_mhz"].get<double>(), 1) << " MHz"
+          << (pr["met"].get<bool>() ? " (met); " : "; ");
+      o << "smallest meeting: " << ds["latency"].get<int>() << " |\n";
+    }
+    o << "| synthesized with | " << s["yosys"].get<std::string>() << ", " << s["sta"].get<std::string>() << " |\n";
+  } else if (!ds["synthesis"].is_null()) {
     const json& s = ds["synthesis"];
     o << "| area | " << num_str(s["area_nand2"].get<double>(), 1) << " NAND2-eq ("
       << s["cells_total"].get<long>() << " generic cells, " << s["reg_bits"].get<long>()
@@ -113,9 +190,9 @@ std::string datasheet_markdown(const json& ds) {
               : "+ (" + std::to_string(s["transistors_uncounted_cells"].get<long>()) +
                     " flip-flops with reset/enable not counted by Yosys)")
       << " |\n"
-      << "| worst stage | " << s["depth"].get<int>() << " gate levels, est. Fmax "
-      << num_str(s["fmax_est_mhz"].get<double>(), 0) << " MHz (delay model "
-      << s["delay_model"].get<std::string>() << ", see synth/README.md) |\n";
+      << "| worst stage | " << s["depth"].get<int>() << " gate levels (a " << s["delay_model"].get<std::string>()
+      << " estimate of " << num_str(s["stage_delay_ps"].get<double>(), 0)
+      << " ps; for a timing use --flow osu018, see synth/README.md) |\n";
     if (!s["ice40"].is_null()) {
       const json& i = s["ice40"];
       o << "| iCE40 " << i["device"].get<std::string>() << " | " << i["luts"].get<long>() << " LUT4, "
@@ -207,8 +284,8 @@ GenReport generate(const UnitSpec& u, const UnitConfig& c, const GenOptions& o) 
                                                "\n# Run from this directory: yosys synth.ys\n" +
                                                generic_script(names, top, false, u.synth_share));
 
-    std::optional<SynthResult> synth;
-    if (o.run_flow) {
+    std::optional<SynthResult> synth = o.reuse;
+    if (o.run_flow && !synth) {
       TempDir work("ru-gen-" + u.name + "-", o.flow.temp_parent);
       std::vector<std::string> abs;
       for (const auto& n : names) abs.push_back(stage + "/" + n);
@@ -229,7 +306,8 @@ GenReport generate(const UnitSpec& u, const UnitConfig& c, const GenOptions& o) 
     files.push_back("datasheet.json");
     files.push_back("datasheet.md");
     std::sort(files.begin(), files.end());
-    const json ds = datasheet_json(u, c, files, synth);
+    json ds = datasheet_json(u, c, files, synth);
+    if (!o.clock_search.is_null()) ds["clock_search"] = o.clock_search;
     write_file_atomic(stage + "/datasheet.json", ds.dump(2) + "\n");
     write_file_atomic(stage + "/datasheet.md", datasheet_markdown(ds));
     fs::permissions(stage, fs::perms::owner_all | fs::perms::group_read | fs::perms::group_exec |

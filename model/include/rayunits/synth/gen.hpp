@@ -2,6 +2,7 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -16,7 +17,24 @@ struct GenOptions {
   bool force = false;    // replace a non-empty out_dir
   bool run_flow = true;  // synthesize for the datasheet's area/depth (false: --no-synth)
   FlowOptions flow;
+  // A result of this very configuration and flow (e.g. the last probe of find_stages_for_clock):
+  // the datasheet takes it instead of synthesizing again.
+  std::optional<SynthResult> reuse;
+  nlohmann::json clock_search;  // recorded in the datasheet when set (find_stages_for_clock)
 };
+
+// Clock-driven pipelining: the smallest Stages of (u, c) whose cell-flow STA meets `clock_ps`
+// (o.flow must be a cell flow; c.stages is ignored). Probes the maximum useful Stages first --
+// if that misses the clock, throws SynthError naming the most this unit reaches there -- then
+// bisects min_stages..max, assuming that more stages never make a met clock fail (every probe is
+// recorded, so the assumption can be checked in the datasheet).
+struct ClockSearch {
+  int stages = 0;
+  SynthResult result;  // of the chosen Stages
+  nlohmann::json probes = nlohmann::json::array();  // {stages, fmax_mhz, slack_ps, met, area_um2}
+};
+ClockSearch find_stages_for_clock(const UnitSpec& u, UnitConfig c, double clock_ps, const FlowOptions& o,
+                                  const std::function<void(const std::string&)>& progress);
 
 struct GenReport {
   std::string top;
