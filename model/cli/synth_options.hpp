@@ -3,6 +3,7 @@
 // texts and the error lines these commands have always printed ("unknown option '--x'",
 // "--stages expects an integer in 0..1000, got 'x'", ...).
 #pragma once
+#include <filesystem>
 #include <functional>
 #include <map>
 #include <string>
@@ -24,6 +25,7 @@ inline const char* const kFlowOptionsHelp =
     "  --clock LIST        target clocks of the cell flow, e.g. 400MHz or 2.5ns,2ns,1500ps: one\n"
     "                      mapping (abc -D) and one STA each (default: no target)\n"
     "  --sta PATH          OpenSTA binary (default: sta on PATH)\n"
+    "  --netlist FILE      cell flow: write the mapped unit module (of the first --clock) to FILE\n"
     "  --fpga              also place and route on iCE40 with nextpnr-ice40 (Fmax; slow)\n"
     "  --device hx8k|up5k  iCE40 device (default hx8k)\n"
     "  --no-ice40          skip synth_ice40 LUT counts\n"
@@ -72,6 +74,7 @@ inline void add_flow_options(CLI::App& app, synth::FlowOptions& o, FlowArgs& a) 
   app.add_option("--flow", a.flow, "generic or a cell library (osu018, osu035, osu050)");
   app.add_option("--clock", a.clock, "target clocks of the cell flow");
   app.add_option("--sta", o.sta, "OpenSTA binary");
+  app.add_option("--netlist", o.netlist_out, "write the mapped netlist");
   auto flag = [&app](const char* name, std::function<void()> f, const char* what) {
     app.add_flag_callback(name, std::move(f), what)->trigger_on_parse();
   };
@@ -94,6 +97,9 @@ inline void check_flow_options(const CLI::App& app, synth::FlowOptions& o, const
     synth::check_flow_name(a.flow);
     o.flow = a.flow;
   }
+  if (app.count("--netlist") && !synth::is_cell_flow(o.flow) && !app.count("--clock"))
+    throw UsageError("--netlist needs a cell-library flow (--flow osu018, osu035 or osu050)");
+  if (!o.netlist_out.empty()) o.netlist_out = std::filesystem::absolute(o.netlist_out).string();
   if (app.count("--clock")) {
     o.clocks_ps = synth::parse_clock_list("--clock", a.clock);
     if (!app.count("--flow")) o.flow = "osu018";  // a clock means a timed flow

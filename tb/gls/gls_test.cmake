@@ -25,7 +25,7 @@
 #   Every liberty cell must be checked or listed as excluded; any mismatch fails (listed by cell).
 # MODE=netlist: the mapped netlist on the scoreboard
 #   1. rayunits gen <unit> --no-synth --out WORK/mod: the wrapper, its RTL, files.f, datasheet
-#   2. yosys: the standard-cell mapping script of the synthesis flow (map.ys below) -> netlist.v
+#   2. rayunits synth --flow osu018 --clock 2ns --netlist: the synthesis flow maps it -> netlist.v
 #   3. the netlist: only liberty cells, no three-state cell, every DFFSR with R or S tied to 1
 #   4. verilator --cc netlist.v osu018_cells.v (--x-assign unique --x-initial unique,
 #      -fno-const-bit-op-tree: see VERILATOR_GLS_ARGS), ports equal the datasheet's; model + glue
@@ -284,22 +284,10 @@ function(_gls_map dir)
   file(REMOVE_RECURSE ${dir})
   _gls_run(gen COMMAND ${RAYUNITS} gen ${UNIT} --format ${FORMAT} --stages ${STAGES}
     --round ${ROUND} --out ${dir} --no-synth)
-  file(STRINGS ${dir}/files.f files)
-  # The standard-cell mapping of the synthesis flow (issue 13 section 2), -D = target period in ps.
-  set(ys "read_liberty -lib ${LIB}\n")
-  foreach(f ${files})
-    string(APPEND ys "read_verilog -sv ${dir}/${f}\n")
-  endforeach()
-  string(APPEND ys "hierarchy -check -top ${TOP}
-synth -flatten -top ${TOP}
-dfflibmap -liberty ${LIB}
-abc -liberty ${LIB} -D 2000
-opt_clean
-check -assert
-write_verilog -noattr -noexpr ${WORK}/netlist.v
-")
-  file(WRITE ${WORK}/map.ys "${ys}")
-  _gls_run(yosys COMMAND ${YOSYS} -q -l ${WORK}/yosys_full.log -s ${WORK}/map.ys)
+  # The synthesis flow itself maps the unit (one mapping script: flow.cpp's cell_premap_script
+  # and cell_map_script), at a 2 ns target; --netlist writes the mapped unit module alone.
+  _gls_run(synth COMMAND ${RAYUNITS} synth ${UNIT} --format ${FORMAT} --stages ${STAGES}
+    --round ${ROUND} --flow osu018 --clock 2ns --netlist ${WORK}/netlist.v --json ${WORK}/synth.jsonl)
 endfunction()
 
 # Checks the netlist's cells (see the header); sets CELL_SUMMARY in the caller.

@@ -309,7 +309,7 @@ std::string cell_abc_script(double target_ps) {
          "\ndnsize -D " + d + "\n";
 }
 
-std::string cell_map_script(const CellLibrary& lib, const std::string& stem) {
+std::string cell_map_script(const CellLibrary& lib, const std::string& stem, const std::string& unit_top) {
   std::string s = "read_liberty -lib " + quote(lib.liberty) + "\nread_rtlil premap.il\n";
   s += "abc -liberty " + quote(lib.liberty) + " -script " + stem + ".abc\n";
   // -purge and -simple-lhs: no `assign {a, b} = ...`, which OpenSTA cannot read.
@@ -317,6 +317,8 @@ std::string cell_map_script(const CellLibrary& lib, const std::string& stem) {
   s += "tee -q -o " + stem + ".json stat -json\n";
   s += "tee -q -o " + stem + ".txt stat -liberty " + quote(lib.liberty) + "\n";
   s += "write_verilog -noattr -noexpr -simple-lhs " + stem + ".v\n";
+  // The unit alone (synth --netlist; gate-level simulation in tb/gls).
+  s += "select " + unit_top + "\nwrite_verilog -noattr -noexpr -simple-lhs -selected " + stem + "_unit.v\nselect -clear\n";
   return s;
 }
 
@@ -344,7 +346,7 @@ CellResult run_cell_flow(const std::vector<std::string>& abs_sources, const std:
     const std::string stem = "cell_" + std::to_string(k);
     write_file_atomic(dir + "/" + stem + ".abc", cell_abc_script(clocks[k]));
     run.yosys_s = run_yosys(yosys, "cell flow: abc -liberty" + (clocks[k] > 0 ? " -D " + fmt_num(clocks[k], 0) : ""),
-                            cell_map_script(lib, stem), dir, stem, o.timeout_s);
+                            cell_map_script(lib, stem, top), dir, stem, o.timeout_s);
     run.cells = stat_cells(dir + "/" + stem + ".json", top);
     run.area = cell_area(lib, run.cells);
     {
@@ -357,6 +359,14 @@ CellResult run_cell_flow(const std::vector<std::string>& abs_sources, const std:
       if (std::fabs(y - run.area.total) > 1e-6 * std::max(1.0, y))
         throw SynthError("cell area of " + top + ": Yosys says " + fmt_num(y, 3) + ", the liberty's cell areas give " +
                          fmt_num(run.area.total, 3));
+    }
+    run.netlist = dir + "/" + stem + "_unit.v";
+    if (!o.netlist_out.empty() && k == 0) {
+      try {
+        fs::copy_file(run.netlist, o.netlist_out, fs::copy_options::overwrite_existing);
+      } catch (const fs::filesystem_error& e) {
+        throw SynthError("cannot write the netlist to '" + o.netlist_out + "': " + e.code().message());
+      }
     }
     const double period = clocks[k] > 0 ? clocks[k] : kUntargetedPeriodPs;
     const auto t1 = std::chrono::steady_clock::now();

@@ -21,6 +21,7 @@ struct FlowOptions {
   // empty: one run mapped without a delay target and timed at kUntargetedPeriodPs.
   std::vector<double> clocks_ps;
   std::string sta = "sta";      // OpenSTA
+  std::string netlist_out;      // cell flow: copy the mapped unit (first clock) here; empty: no
   std::string yosys = "yosys";  // name on PATH or a path
   std::string nextpnr = "nextpnr-ice40";
   std::string rtl_dir;                // empty: default_rtl_dir()
@@ -92,6 +93,7 @@ struct CellRun {
   CellArea area;
   StaResult sta;
   double achieved_ps = 0;  // period - slack: the shortest clock period this netlist meets
+  std::string netlist;     // the mapped unit module (in the work directory)
   double fmax_mhz = 0;
   double yosys_s = 0, sta_s = 0;
 };
@@ -146,7 +148,8 @@ std::string yosys_version(const std::string& yosys);  // "Yosys 0.23 (git sha1 .
 std::string cell_premap_script(const CellLibrary& lib, const std::vector<std::string>& sources,
                                const std::string& unit_top, bool share);
 // reading the ABC script <stem>.abc, which is cell_abc_script(target_ps).
-std::string cell_map_script(const CellLibrary& lib, const std::string& stem);
+// <stem>_unit.v is the unit module alone.
+std::string cell_map_script(const CellLibrary& lib, const std::string& stem, const std::string& unit_top);
 std::string cell_abc_script(double target_ps);
 
 // JSON rows: the synthesis row schema (synth/README.md, "Row schema"): one object per (unit,
