@@ -196,13 +196,13 @@ TEST(CellFlow, ClockValues) {
 
 // ---- error lines of the command ----
 
-struct Run {
+struct CliRun {
   int code;
   std::string out, err;
 };
 
 // `env` is prepended to the command (e.g. "RU_CELL_LIB_DIR=/x").
-Run rayunits(const std::string& args, const std::string& env = "") {
+CliRun rayunits(const std::string& args, const std::string& env = "") {
   TempDir t("ru-test-cellcli-");
   const std::string o = t.path() + "/out", e = t.path() + "/err";
   const std::string cmd =
@@ -213,7 +213,7 @@ Run rayunits(const std::string& args, const std::string& env = "") {
 
 void expect_error(const std::string& args, const std::string& want, const std::string& env = "") {
   SCOPED_TRACE(args);
-  const Run r = rayunits(args, env);
+  const CliRun r = rayunits(args, env);
   EXPECT_NE(r.code, 0);
   EXPECT_EQ(r.out, "");
   EXPECT_EQ(r.err, "rayunits synth: error: " + want + "\n");
@@ -233,6 +233,46 @@ TEST(CellFlowCli, ErrorLines) {
                "cell library osu018 not found: no " + empty.path() +
                    "/osu018/osu018_stdcells.lib (install the Debian package qflow-tech-osu018, or set RU_CELL_LIB_DIR)",
                "RU_CELL_LIB_DIR=" + empty.path());
+}
+
+TEST(CellFlowCli, GenFindsTheSmallestStagesMeetingTheClock) {
+  if (!have_sta() || !have_osu018()) GTEST_SKIP() << "sta or osu018 not installed";
+  TempDir t("ru-test-genclk-");
+  const std::string out = t.path() + "/g";
+  const CliRun r = rayunits("gen fp_cmp --format e5m10 --clock 2.2ns --out " + out);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const json ds = json::parse(read_file(out + "/datasheet.json"));
+  const int chosen = ds["latency"];
+  EXPECT_EQ(ds["flow"], "osu018");
+  EXPECT_TRUE(ds["met"].get<bool>());
+  EXPECT_GE(ds["slack_ps"].get<double>(), 0);
+  EXPECT_EQ(ds["target_clock_ps"].get<double>(), 2200);
+  // The smallest: either the unit's minimum, or one fewer stage was tried and missed.
+  bool fewer_missed = chosen == 0;
+  bool chosen_met = false;
+  for (const json& p : ds["clock_search"]["probes"]) {
+    if (p["stages"] == chosen - 1 && !p["met"].get<bool>()) fewer_missed = true;
+    if (p["stages"] == chosen) chosen_met = p["met"].get<bool>();
+  }
+  EXPECT_TRUE(fewer_missed) << ds["clock_search"].dump();
+  EXPECT_TRUE(chosen_met) << ds["clock_search"].dump();
+  const std::string md = read_file(out + "/datasheet.md");
+  EXPECT_NE(md.find("| target clock | 454.5 MHz (2200 ps): met"), std::string::npos) << md;
+  EXPECT_NE(md.find("smallest meeting: " + std::to_string(chosen)), std::string::npos) << md;
+}
+
+TEST(CellFlowCli, GenUnreachableClockIsOneLine) {
+  if (!have_sta() || !have_osu018()) GTEST_SKIP() << "sta or osu018 not installed";
+  TempDir t("ru-test-genclk-");
+  const std::string out = t.path() + "/g";
+  const CliRun r = rayunits("gen fp_cmp --format e5m10 --clock 10GHz --out " + out + " 2>&1 >/dev/null | tail -1");
+  // stderr: one progress line per probe, then the error line.
+  EXPECT_EQ(r.out.rfind("rayunits gen: error: fp_cmp does not reach 10000.0 MHz (100 ps) in osu018: at its maximum "
+                        "useful Stages 2 it reaches ",
+                        0),
+            0u)
+      << r.out;
+  EXPECT_FALSE(std::filesystem::exists(out)) << "nothing half-written";
 }
 
 }  // namespace

@@ -161,7 +161,7 @@ std::string datasheet_markdown(const json& ds) {
       << num_str(s["area_comb_um2"].get<double>(), 0) << ", sequential " << num_str(s["area_seq_um2"].get<double>(), 0)
       << "; " << s["cell_count"].get<long>() << " cells), before placement |\n";
     if (!s["target_clock_ps"].is_null())
-      o << "| target clock | " << num_str(s["target_clock_mhz"].get<double>(), 1) << " MHz ("
+      o << "| target clock | " << num_str(1e6 / s["target_clock_ps"].get<double>(), 1) << " MHz ("
         << num_str(s["target_clock_ps"].get<double>(), 0) << " ps): "
         << (s["met"].get<bool>() ? "met" : "NOT met") << ", slack " << num_str(s["slack_ps"].get<double>(), 0)
         << " ps |\n";
