@@ -55,6 +55,10 @@ int run_sweep_cmd(int argc, char** argv) {
   if (app.count("--stages")) so.stages = split_list(stages);
   if (app.count("--jobs")) so.jobs = synth::parse_int("-j", jobs, 1, 256);
   check_flow_options(app, so.flow, fa);
+  if (synth::is_cell_flow(so.flow.flow))
+    throw UsageError("synth-sweep runs the generic flow only; for " + so.flow.flow +
+                     " run `rayunits synth ... --flow " + so.flow.flow + " --clock LIST` per point (synth/cell/)");
+  if (app.count("--netlist")) throw UsageError("--netlist applies to one unit (rayunits synth), not to a sweep");
   if (so.out_dir.empty()) throw UsageError("--out DIR is required");
   synth::install_interrupt_handler();
   const int failed = synth::run_sweep(so, [](const std::string& s) {
