@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <map>
+#include <mutex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -20,9 +21,11 @@
 #include "command.hpp"
 #include "rayunits/noise/study.hpp"
 #include "rayunits/report/report.hpp"
+#include "rayunits/synth/flow.hpp"
 #include "rayunits/synth/process.hpp"
 #include "rayunits/synth/sweep.hpp"
 #include "rayunits/util/csv.hpp"
+#include "rayunits/util/parallel.hpp"
 #include "studies.hpp"
 
 namespace ru::cli {
@@ -185,8 +188,67 @@ std::vector<std::string> synth_cells(const synth::SweepRow& r) {
   const std::string luts = !r.ice40_run   ? "-"
                            : r.ice40_fits ? std::to_string(r.ice40_luts)
                                           : std::to_string(r.ice40_luts) + " (does not fit)";
-  return {fmt("%.0f", r.area_nand2), std::to_string(r.reg_bits), std::to_string(r.depth), fmt("%.0f", r.fmax_est_mhz),
+  // fo4-v1 is an estimate: shown as a stage delay in ps, never as a frequency (clocks: CellRows).
+  return {fmt("%.0f", r.area_nand2), std::to_string(r.reg_bits), std::to_string(r.depth), fmt("%.0f", 1e6 / r.fmax_est_mhz),
           luts, r.ice40_fits ? fmt("%.1f", r.ice40_fmax_mhz) : "-"};
+}
+
+// The same points through the cell-library flow (rayunits synth ... --flow osu018, without a
+// target clock): area in um2 and the OpenSTA clock; rows appended to <sub>.jsonl.
+struct CellRows {
+  std::string cmd;  // the command line pattern
+  std::map<std::string, nlohmann::json> rows;  // "unit format stages" -> row
+  const nlohmann::json* find(const std::string& unit, const std::string& format, int stages) const {
+    auto it = rows.find(unit + " " + format + " " + std::to_string(stages));
+    return it == rows.end() ? nullptr : &it->second;
+  }
+  std::vector<std::string> cells(const std::string& unit, const std::string& format, int stages) const {
+    const nlohmann::json* j = find(unit, format, stages);
+    if (!j) return {"-", "-", "-"};
+    return {fmt("%.0f", (*j)["area_um2"].get<double>()), fmt("%.1f", (*j)["fmax_mhz"].get<double>()),
+            fmt("%.1f", (*j)["period_fo4"].get<double>())};
+  }
+};
+
+CellRows run_cell_rows(Context& ctx, const std::string& sub, const std::vector<synth::SweepRow>& pts) {
+  CellRows c;
+  c.cmd = "rayunits synth <unit> --format <format> --stages <stages> --flow osu018 --json " + sub +
+          ".jsonl   # each row below";
+  ctx.progress(c.cmd);
+  std::vector<nlohmann::json> out(pts.size());
+  synth::install_interrupt_handler();
+  util::ParallelOptions po;
+  po.stop = [] { return synth::interrupted(); };
+  std::string err;
+  std::mutex mu;
+  util::parallel_for(
+      pts.size(), threads_of(ctx),
+      [&](size_t i) {
+        const synth::SweepRow& r = pts[i];
+        if (!r.error.empty()) return;
+        const synth::UnitSpec& u = synth::find_unit(r.unit);
+        synth::UnitConfig cfg;
+        if (u.uses_format) cfg.fmt = num::Format::parse(r.format);
+        cfg.stages = r.stages;
+        synth::FlowOptions fo;
+        fo.flow = "osu018";
+        try {
+          out[i] = synth::to_json(synth::run_synth(u, cfg, fo));
+        } catch (const std::exception& e) {
+          std::lock_guard<std::mutex> l(mu);
+          if (err.empty()) err = std::string("rayunits synth ") + synth::config_args(u, cfg) + " --flow osu018: " + e.what();
+        }
+      },
+      po);
+  if (!err.empty()) throw ReportError(err);
+  std::string jsonl;
+  for (size_t i = 0; i < pts.size(); ++i) {
+    if (out[i].is_null()) continue;
+    jsonl += out[i].dump() + "\n";
+    c.rows[pts[i].unit + " " + pts[i].format + " " + std::to_string(pts[i].stages)] = out[i];
+  }
+  synth::write_file_atomic(ctx.path(sub + ".jsonl").string(), jsonl);
+  return c;
 }
 
 // The accuracy section's rows (format, op) -> {mean_rel_err, max_rel_err, out_of_range}, read
@@ -211,26 +273,32 @@ std::string synthesis_section(Context& ctx) {
   const bool fpga = ctx.param("synthesis.fpga", "1") != "0";
   const Sweep sw = run_sweep(ctx, "synth", units, formats, stages, fpga ? Flow::Ice40Fmax : Flow::Ice40Luts);
 
+  const CellRows cr = run_cell_rows(ctx, "synth_osu018", sw.rows);
+
   std::string md =
-      "The speed side of the speed/accuracy trade: every unit synthesized by the project's open flow "
-      "(synth/README.md: Yosys generic gates weighted in NAND2 equivalents, worst-stage depth from `ltp -noff`, "
-      "Fmax estimated with the documented gate-delay model; iCE40 HX8K place and route by nextpnr). The accuracy "
-      "side is the section above: its rows for the same formats are repeated here.\n\n" +
-      code_block("cd REPORT && " + sw.cmd);
+      "The speed side of the speed/accuracy trade: every unit mapped onto the osu018 180 nm standard-cell library "
+      "and timed by OpenSTA (synth/README.md, \"The cell-library flow\": area in um2, Fmax = 1 / (period - slack) "
+      "through a register harness, before placement; FO4 = 98.3 ps), beside the generic flow's estimates (Yosys "
+      "gates in NAND2 equivalents, worst-stage depth from `ltp -noff` and its fo4-v1 delay estimate) and iCE40 "
+      "HX8K place and route by nextpnr. The accuracy side is the section above: its rows for the same formats "
+      "are repeated here.\n\n" +
+      code_block("cd REPORT && " + cr.cmd + "\ncd REPORT && " + sw.cmd);
   Table t;
   for (const auto& r : sw.rows) {
     std::vector<std::string> row{r.unit, r.format, std::to_string(r.stages)};
     if (!r.error.empty()) {
-      row.insert(row.end(), {"error: " + r.error, "", "", "", "", ""});
+      row.insert(row.end(), {"error: " + r.error, "", "", "", "", "", "", "", ""});
     } else {
+      auto k = cr.cells(r.unit, r.format, r.stages);
+      row.insert(row.end(), k.begin(), k.end());
       auto c = synth_cells(r);
       row.insert(row.end(), c.begin(), c.end());
     }
     t.push_back(row);
   }
   md += ru::report::md_table(
-      {"unit", "format", "stages", "area (NAND2-eq)", "register bits", "depth (gates)", "Fmax est. (MHz)",
-       "iCE40 LUTs", "iCE40 Fmax (MHz)"},
+      {"unit", "format", "stages", "area (um2, osu018)", "Fmax (MHz, STA)", "cycle (FO4)", "area est. (NAND2-eq)",
+       "register bits", "depth (gates)", "stage est. (ps, fo4-v1)", "iCE40 LUTs", "iCE40 Fmax (MHz)"},
       t);
   md += "\nData: [synth/synth_sweep.csv](synth/synth_sweep.csv), one JSON per point in `synth/points/`; tool "
         "output in [synth.txt](synth.txt).\n\n";
@@ -455,22 +523,40 @@ std::string noise_section(Context& ctx) {
     // it does not fit an iCE40; the sweep's plot is for FP formats (the table shows the noise rows)
     const Sweep nz = run_sweep(ctx, "noise_synth", "noise", "", stages, Flow::Ice40Luts, false);
     const Sweep fp = run_sweep(ctx, "noise_fp_synth", "fp_add,fp_mul,fp_dot3", "e8m23", "0", Flow::Generic);
+    std::vector<synth::SweepRow> cell_pts = nz.rows;
+    cell_pts.insert(cell_pts.end(), fp.rows.begin(), fp.rows.end());
+    const CellRows cr = run_cell_rows(ctx, "noise_osu018", cell_pts);
     Table t;
     for (const auto& r : nz.rows) {
       if (!r.error.empty()) {
         t.push_back({std::to_string(r.stages), "error: " + r.error});
         continue;
       }
-      auto cells = synth_cells(r);
       std::vector<std::string> row{std::to_string(r.stages)};
+      auto k = cr.cells("noise", "", r.stages);
+      row.insert(row.end(), k.begin(), k.end());
+      auto cells = synth_cells(r);
       row.insert(row.end(), cells.begin(), cells.end());
       t.push_back(row);
     }
     md += "### Area and speed by pipeline depth (Table 4.1 in this flow)\n\n" +
-          code_block("cd REPORT && " + nz.cmd + "\ncd REPORT && " + fp.cmd) +
-          ru::report::md_table({"stages", "area (NAND2-eq)", "register bits", "depth (gates)", "Fmax est. (MHz)",
-                                "iCE40 LUTs", "iCE40 Fmax (MHz)"},
+          code_block("cd REPORT && " + cr.cmd + "\ncd REPORT && " + nz.cmd + "\ncd REPORT && " + fp.cmd) +
+          ru::report::md_table({"stages", "area (um2, osu018)", "Fmax (MHz, STA)", "cycle (FO4)", "area est. (NAND2-eq)",
+                                "register bits", "depth (gates)", "stage est. (ps, fo4-v1)", "iCE40 LUTs",
+                                "iCE40 Fmax (MHz)"},
                                t);
+    {
+      auto um2 = [&](const std::string& u, const std::string& f) {
+        const nlohmann::json* j = cr.find(u, f, 0);
+        return j ? (*j)["area_um2"].get<double>() : std::nan("");
+      };
+      const double n = um2("noise", ""), a = um2("fp_add", "e8m23"), m = um2("fp_mul", "e8m23"),
+                   d = um2("fp_dot3", "e8m23");
+      md += "\nIn osu018 (Stages 0, um2): noise / (fp_add + fp_mul) = " + fmt("%.2f", n / (a + m)) +
+            ", noise / fp_dot3 = " + fmt("%.2f", n / d) + " (noise " + fmt("%.0f", n) + ", fp_add " + fmt("%.0f", a) +
+            ", fp_mul " + fmt("%.0f", m) + ", fp_dot3 " + fmt("%.0f", d) +
+            "). The generic-gate ratios below are estimates.\n";
+    }
     const double n0 = nz.area("noise", "", 0);
     const double add = fp.area("fp_add", "e8m23", 0), mul = fp.area("fp_mul", "e8m23", 0),
                  dot = fp.area("fp_dot3", "e8m23", 0);
