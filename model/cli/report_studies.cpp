@@ -313,13 +313,14 @@ std::string synthesis_section(Context& ctx) {
       const std::string op = r.unit.substr(3);  // fp_mul -> mul
       auto it = accm.find(r.format + " " + op);
       if (it == accm.end()) continue;
-      s.push_back({r.unit, r.format, fmt("%.0f", r.area_nand2), fmt("%.0f", r.fmax_est_mhz),
+      const auto k = cr.cells(r.unit, r.format, r.stages);
+      s.push_back({r.unit, r.format, k[0], k[1],
                    fmt("%.3g", std::atof(it->second[0].c_str())), fmt("%.3g", std::atof(it->second[1].c_str())),
                    it->second[2]});
     }
     if (!s.empty()) {
       md += "Speed and accuracy side by side (combinational units; errors from the accuracy section's workload):\n\n";
-      md += ru::report::md_table({"unit", "format", "area (NAND2-eq)", "Fmax est. (MHz)", "mean rel. error",
+      md += ru::report::md_table({"unit", "format", "area (um2, osu018)", "Fmax (MHz, STA)", "mean rel. error",
                                   "max rel. error", "out of range"},
                                  s);
     }
