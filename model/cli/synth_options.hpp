@@ -100,6 +100,11 @@ inline void check_flow_options(const CLI::App& app, synth::FlowOptions& o, const
   if (app.count("--netlist") && !synth::is_cell_flow(o.flow) && !app.count("--clock"))
     throw UsageError("--netlist needs a cell-library flow (--flow osu018, osu035 or osu050)");
   if (!o.netlist_out.empty()) o.netlist_out = std::filesystem::absolute(o.netlist_out).string();
+  if (synth::is_cell_flow(o.flow) || app.count("--clock"))
+    for (const char* f : {"--fpga", "--device"})
+      if (app.count(f))
+        throw UsageError(std::string(f) + " applies to the generic flow, not to a cell-library flow (--flow " +
+                         (synth::is_cell_flow(o.flow) ? o.flow : std::string("osu018")) + ")");
   if (app.count("--clock")) {
     o.clocks_ps = synth::parse_clock_list("--clock", a.clock);
     if (!app.count("--flow")) o.flow = "osu018";  // a clock means a timed flow

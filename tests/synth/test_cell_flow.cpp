@@ -228,6 +228,12 @@ TEST(CellFlowCli, ErrorLines) {
                "--clock needs a cell-library flow (--flow osu018, osu035 or osu050), not --flow generic");
   expect_error("synth fp_add --format e5m10 --stages 1 --flow osu018 --sta /nonexistent/sta",
                "OpenSTA not found ('/nonexistent/sta'): install the Debian package opensta or pass --sta PATH");
+  expect_error("synth fp_add --format e5m10 --stages 1 --flow osu018 --fpga",
+               "--fpga applies to the generic flow, not to a cell-library flow (--flow osu018)");
+  expect_error("synth fp_add --format e5m10 --stages 1 --clock 3ns --device up5k",
+               "--device applies to the generic flow, not to a cell-library flow (--flow osu018)");
+  expect_error("synth fp_add --format e5m10 --stages 1 --netlist x.v",
+               "--netlist needs a cell-library flow (--flow osu018, osu035 or osu050)");
   TempDir empty("ru-test-nolib-");
   expect_error("synth fp_add --format e5m10 --stages 1 --flow osu018",
                "cell library osu018 not found: no " + empty.path() +
