@@ -124,6 +124,7 @@ def make_runs():
     ends("ray_box", "e8m23", 0)
     ends("ray_box", "e8m23", 7)
     ends("ray_box", "e8m23", 26)
+    tri = len(runs)
     ends("ray_tri_mt", "e8m23", 0, split=True)
     ends("ray_tri_robust", "e8m23", 0, split=True)
     ends("ray_tri_mt", "e8m23", 33, split=True)
@@ -131,6 +132,8 @@ def make_runs():
     ends("ray_box", "e7m16", 0)
     ends("ray_tri_mt", "e7m16", 0, split=True)
     ends("ray_tri_robust", "e7m16", 0, split=True)
+    # every relaxed (area) end of the ray-triangle units before any fast end: the area ratio first
+    runs[tri:] = sorted(runs[tri:], key=lambda r: 0 if r["name"].endswith(".relaxed") else 1)
     for u in FP_UNITS:
         for f in FORMATS:
             for s in fp_stage_list(u, f):
@@ -205,7 +208,7 @@ class Driver:
         try:
             _, err = p.communicate(timeout=run["timeout"] * max(1, len(clocks or [1])) + 600)
         except subprocess.TimeoutExpired:
-            os.killpg(p.pid, signal.SIGINT)
+            os.killpg(p.pid, signal.SIGTERM)
             try:
                 p.wait(15)
             except subprocess.TimeoutExpired:
@@ -397,11 +400,12 @@ class Driver:
             self.stop = True
             with self.lock:
                 procs = list(self.procs.values())
-            # rayunits ends the tools it started (each in its own process group) on SIGINT/SIGTERM;
+            # rayunits ends the tools it started on SIGINT/SIGTERM (SIGTERM: a background job started by a
+            # non-interactive shell ignores SIGINT);
             # SIGKILL only after a grace period.
             for p in procs:
                 try:
-                    os.killpg(p.pid, signal.SIGINT)
+                    os.killpg(p.pid, signal.SIGTERM)
                 except ProcessLookupError:
                     pass
             t0 = time.time()
@@ -415,7 +419,14 @@ class Driver:
         return 1 if failures else 0
 
 
+def _on_term(signum, frame):
+    raise KeyboardInterrupt
+
+
 def main():
+    # SIGTERM and SIGINT both stop the driver cleanly (running syntheses are ended, nothing renamed).
+    signal.signal(signal.SIGTERM, _on_term)
+    signal.signal(signal.SIGINT, _on_term)
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("-j", "--jobs", type=int, default=2, help="runs at once (at most 2 on the shared machine)")
     ap.add_argument("--only", help="regular expression: only runs whose name matches")
