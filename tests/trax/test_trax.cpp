@@ -257,6 +257,25 @@ TEST(TraxImage, DeterministicCyclesAndImage) {
   const TraxResult cb = run_trax(ru::scene::make_scene("cornell"), c, 8, 8);
   EXPECT_EQ(cb.sim.unit_ops[static_cast<int>(Unit::Noise)], 0u);
   for (const auto& it : cb.area.items) EXPECT_EQ(it.name.find("noise"), std::string::npos) << it.name;
+  // ... and its "sta" clock is the slowest *used* unit's Fmax (noise, unused, does not count).
+  double slowest = 0;
+  for (int u = 0; u < kUnits; ++u)
+    if (cb.sim.unit_ops[u] && cb.cfg.units[u].fmax_mhz > 0 && (slowest == 0 || cb.cfg.units[u].fmax_mhz < slowest))
+      slowest = cb.cfg.units[u].fmax_mhz;
+  EXPECT_GT(slowest, 0);
+  EXPECT_EQ(cb.cfg.clock_mhz, slowest);
+  EXPECT_EQ(cb.clock.mhz, slowest);
+  EXPECT_NE(cb.clock.how.find("slowest used unit"), std::string::npos) << cb.clock.how;
+  // memories have no cell-flow measurement: estimates, labelled so
+  int memories = 0;
+  for (const auto& it : cb.area.items)
+    if (it.name.rfind("unit ", 0) != 0) {
+      ++memories;
+      EXPECT_TRUE(it.estimate) << it.name;
+      EXPECT_NE(it.name.find("estimate"), std::string::npos) << it.name;
+    }
+  EXPECT_EQ(memories, 4);
+  EXPECT_GE(cb.area.estimated, cb.area.memories);
   // Changing one latency changes the cycle count.
   c.unit(Unit::Box).latency += 10;
   EXPECT_NE(run_trax(s, c, 12, 12).sim.cycles, a.sim.cycles);
@@ -301,12 +320,14 @@ TEST(TraxReport, SummaryLineFormat) {
   Config c = default_config();
   c.tms = 1;
   c.tps_per_tm = 4;
+  c.clock_mhz = 1000;  // configured (the default is "sta": docs/TRAX.md)
   const TraxResult r = run_trax(ru::scene::make_scene("cornell"), c, 4, 4);
   const std::string line = summary_line(r);
   std::ostringstream want;
   want << "cycles=" << r.sim.cycles << " rays=" << r.rays() << " rays_per_s=";
   EXPECT_EQ(line.rfind(want.str(), 0), 0u) << line;
   EXPECT_NE(line.find(" (at 1000 MHz) area="), std::string::npos) << line;
+  EXPECT_EQ(line.substr(line.size() - 3), "mm2") << line;
   // rays/s = rays / (cycles / clock)
   EXPECT_NEAR(r.rays_per_second(), double(r.rays()) * 1e9 / double(r.sim.cycles), 1e-6 * r.rays_per_second());
 }

@@ -7,9 +7,13 @@
 #include <cstring>
 #include <fstream>
 
+#include <nlohmann/json.hpp>
+
 #include "rayunits/noise/fixed.hpp"
 #include "rayunits/num/fp.hpp"
 #include "rayunits/scene/scene.hpp"
+#include "rayunits/synth/cell.hpp"
+#include "rayunits/trax/studies.hpp"
 #include "rayunits/trax/cosim.hpp"
 #include "rayunits/trax/trax.hpp"
 #include "rayunits/units/ray_box.hpp"
@@ -56,21 +60,46 @@ struct AreaTable {
   }
   ~AreaTable() { unsetenv("RU_TRAX_AREAS"); }
 };
-std::string row(const char* unit, const char* fmt, int stages, double area) {
-  return std::string("{\"unit\": \"") + unit + "\", \"format\": \"" + fmt + "\", \"stages\": " +
-         std::to_string(stages) + ", \"area_nand2\": " + std::to_string(area) + ", \"command\": \"test\"}";
+// A cell-flow row as `rayunits trax areas` writes it (the fields the model reads).
+std::string row(const char* unit, const char* fmt, int stages, double area, double fmax = 100) {
+  const bool noise = std::strcmp(unit, "noise") == 0;
+  return std::string("{\"unit\": \"") + unit + "\", \"format\": " + (noise ? "null" : "\"" + std::string(fmt) + "\"") +
+         ", \"stages\": " + std::to_string(stages) + ", \"flow\": \"osu018\", \"area_um2\": " + std::to_string(area) +
+         ", \"fmax_mhz\": " + std::to_string(fmax) + ", \"command\": \"rayunits synth " + unit +
+         (noise ? std::string() : " --format " + std::string(fmt)) + " --stages " + std::to_string(stages) +
+         " --flow osu018 --clock 1000000ps --timeout 1800 --json -\"}";
+}
+// NAND2X1 = 10 um2 in the test tables: conv 1500 NAND2-eq -> 15000 um2.
+std::string table_json(const std::string& rows) {
+  return "{\"nand2_cell\": {\"cell\": \"NAND2X1\", \"area_um2\": 10, \"liberty\": \"test.lib\"}, \"rows\": [" + rows +
+         "]}";
+}
+std::string fp_rows() {
+  return row("fp_add", "e8m23", 2, 100, 200) + ", " + row("fp_mul", "e8m23", 2, 1000, 150) + ", " +
+         row("fp_div", "e8m23", 16, 5000, 300) + ", " + row("fp_cmp", "e8m23", 1, 10, 400) + ", " +
+         row("noise", "-", 4, 777, 120);
+}
+std::string resolve_error(const std::string& json, const Config& c = default_config()) {
+  AreaTable t("areas_err.json", json);
+  try {
+    resolve_config(c);
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "";
 }
 }  // namespace
 
-// Composition and scaling by hand: add 100, mul 1000, div 5000, cmp 10 (e8m23, Stages 2 2 16 1):
+// Composition and scaling by hand: add 100, mul 1000, div 5000, cmp 10 um2 (e8m23, Stages 2 2 16 1):
 //   box = 6*100 + 6*1000 + 7*10 = 6670; robust = 43*100 + 39*1000 + 3*5000 + 20*10 = 58500;
 //   mt = 24*100 + 27*1000 + 5000 + 5*10 = 34450. e5m10 from the e8m23 rows: add, cmp by width
 //   16/32 -> 50, 5; mul by (11/24)^2 -> 210.0694..; div: Stages 14 (e5m10's maximum) from the
 //   Stages-16 row (closest), (11/24)^2 -> 1050.347..
+// Clocks (Fmax add 200, mul 150, div 300, cmp 400, noise 120 MHz): box composed = its slowest FP
+//   part min(200, 150, 400) = 150, tri min(200, 150, 300, 400) = 150 (estimates); the "sta" chip
+//   clock over every configured unit = noise's 120.
 TEST(TraxAreas, MeasuredComposedAndScaledRows) {
-  AreaTable t("areas_a.json", "{\"rows\": [" + row("fp_add", "e8m23", 2, 100) + ", " + row("fp_mul", "e8m23", 2, 1000) +
-                                  ", " + row("fp_div", "e8m23", 16, 5000) + ", " + row("fp_cmp", "e8m23", 1, 10) +
-                                  ", " + row("noise", "-", 4, 777) + "]}");
+  AreaTable t("areas_a.json", table_json(fp_rows()));
   Config c = default_config();
   std::vector<AreaSource> src;
   Config r = resolve_config(c, &src);
@@ -79,10 +108,17 @@ TEST(TraxAreas, MeasuredComposedAndScaledRows) {
   EXPECT_EQ(r.unit(Unit::Noise).area, 777);
   EXPECT_EQ(r.unit(Unit::Box).area, 6670);
   EXPECT_EQ(r.unit(Unit::Tri).area, 58500);
-  EXPECT_EQ(r.unit(Unit::Conv).area, 1500);  // a number: kept
-  bool composed = false;
-  for (const auto& s : src) composed = composed || (s.unit == "ray_box" && s.how == "composed");
-  EXPECT_TRUE(composed);
+  EXPECT_EQ(r.unit(Unit::Conv).area, 15000);  // 1500 NAND2-eq x 10 um2: an estimate
+  EXPECT_EQ(r.unit(Unit::Box).fmax_mhz, 150);
+  EXPECT_EQ(r.unit(Unit::Tri).fmax_mhz, 150);
+  EXPECT_EQ(r.unit(Unit::Conv).fmax_mhz, 0);  // not timed
+  EXPECT_EQ(r.clock_mhz, 120);
+  EXPECT_EQ(r.nand2_um2, 10);
+  ASSERT_EQ(src.size(), size_t(kUnits));
+  EXPECT_EQ(src[int(Unit::Box)].how, "composed");
+  EXPECT_EQ(src[int(Unit::FpAdd)].how, "measured");
+  EXPECT_EQ(src[int(Unit::Conv)].how, "estimate");
+  EXPECT_NE(src[int(Unit::Conv)].detail.find("1500 NAND2-eq"), std::string::npos) << src[int(Unit::Conv)].detail;
   c.tri = "mt";
   EXPECT_EQ(resolve_config(c).unit(Unit::Tri).area, 34450);
   c.format = "e5m10";
@@ -92,33 +128,160 @@ TEST(TraxAreas, MeasuredComposedAndScaledRows) {
   EXPECT_NEAR(r.unit(Unit::FpMul).area, 1000.0 * 121 / 576, 1e-9);
   EXPECT_NEAR(r.unit(Unit::FpDiv).area, 5000.0 * 121 / 576, 1e-9);
   EXPECT_NEAR(r.unit(Unit::Box).area, 6 * 50 + 6 * 1000.0 * 121 / 576 + 7 * 5, 1e-9);  // plain composition
+  c.clock_mhz = 500;  // a configured clock is kept
+  EXPECT_EQ(resolve_config(c).clock_mhz, 500);
 }
 
-// A measured box row (e8m23, Stages 7) = 2 x its composition 6670: another format's box is its
-// composition scaled by the same factor 2 (e5m10: 2 x (6*50 + 6*1000*121/576 + 7*5)).
+// A measured box row (e8m23, Stages 7) = 2 x its composition 6670, Fmax 90: another format's box
+// is its composition scaled by the same factor 2; its Fmax 90 x (slowest FP part e5m10 /
+// e8m23) = 90 x 150/150 (the e5m10 parts are scaled from the e8m23 rows, Fmax kept).
 TEST(TraxAreas, CompositionScaledToAMeasuredRow) {
-  AreaTable t("areas_c.json", "{\"rows\": [" + row("fp_add", "e8m23", 2, 100) + ", " + row("fp_mul", "e8m23", 2, 1000) +
-                                  ", " + row("fp_div", "e8m23", 16, 5000) + ", " + row("fp_cmp", "e8m23", 1, 10) +
-                                  ", " + row("noise", "-", 4, 777) + ", " + row("ray_box", "e8m23", 7, 13340) + "]}");
+  AreaTable t("areas_c.json", table_json(fp_rows() + ", " + row("ray_box", "e8m23", 7, 13340, 90)));
   Config c = default_config();
   EXPECT_EQ(resolve_config(c).unit(Unit::Box).area, 13340);
+  EXPECT_EQ(resolve_config(c).unit(Unit::Box).fmax_mhz, 90);
+  EXPECT_EQ(resolve_config(c).clock_mhz, 90);
   c.format = "e5m10";
-  EXPECT_NEAR(resolve_config(c).unit(Unit::Box).area, 2 * (6 * 50 + 6 * 1000.0 * 121 / 576 + 7 * 5), 1e-9);
+  std::vector<AreaSource> src;
+  const Config r = resolve_config(c, &src);
+  EXPECT_NEAR(r.unit(Unit::Box).area, 2 * (6 * 50 + 6 * 1000.0 * 121 / 576 + 7 * 5), 1e-9);
+  EXPECT_NEAR(r.unit(Unit::Box).fmax_mhz, 90, 1e-9);
+  EXPECT_EQ(src[int(Unit::Box)].how, "composed, scaled");
+  EXPECT_NE(src[int(Unit::Box)].fmax_how.find("estimate"), std::string::npos);
 }
 
 TEST(TraxAreas, MissingRowIsOneLineNamingIt) {
-  AreaTable t("areas_b.json", "{\"rows\": [" + row("fp_add", "e8m23", 2, 100) + "]}");
+  const std::string m = resolve_error(table_json(row("fp_add", "e8m23", 2, 100)));
+  EXPECT_NE(m.find("no row for fp_mul e8m23 Stages 2"), std::string::npos) << m;
+  EXPECT_EQ(m.find('\n'), std::string::npos);
+  AreaTable t("areas_b.json", table_json(row("fp_add", "e8m23", 2, 100)));
+  Config c = default_config();
+  for (int u = 0; u < kUnits; ++u) c.units[u].area = 1;  // numbers: no rows needed (the NAND2X1 area is)
+  c.clock_mhz = 1000;
+  EXPECT_NO_THROW(resolve_config(c));
+  c.clock_mhz = kClockSta;  // but no unit has an STA clock then
   try {
-    resolve_config(default_config());
+    resolve_config(c);
     FAIL() << "no error";
   } catch (const ConfigError& e) {
-    const std::string m = e.what();
-    EXPECT_NE(m.find("no row for fp_mul e8m23 Stages 2"), std::string::npos) << m;
-    EXPECT_EQ(m.find('\n'), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("chip.clock_mhz = \"sta\": no configured unit has an STA clock"),
+              std::string::npos)
+        << e.what();
   }
-  Config c = default_config();
-  for (int u = 0; u < kUnits; ++u) c.units[u].area = 1;  // numbers: the table is not needed
-  EXPECT_NO_THROW(resolve_config(c));
+}
+
+// Planted errors in the table: each is one line naming the row and what is wrong.
+TEST(TraxAreas, MalformedTableIsOneLineNamingTheRow) {
+  auto one_line = [](const std::string& m, const std::string& want) {
+    EXPECT_NE(m.find(want), std::string::npos) << m;
+    EXPECT_EQ(m.find('\n'), std::string::npos) << m;
+    EXPECT_EQ(m.rfind("trax area table ", 0), 0u) << m;
+  };
+  const std::string good = fp_rows();
+  // a row whose unit is not what its command synthesized (a hand edit)
+  std::string wrong_unit = row("fp_mul", "e8m23", 2, 1000);
+  wrong_unit.replace(wrong_unit.find("\"unit\": \"fp_mul\""), 16, "\"unit\": \"fp_add\"");
+  one_line(resolve_error(table_json(good + ", " + wrong_unit)),
+           "row 6 (fp_add e8m23 Stages 2): command synthesizes 'fp_mul', the row says unit 'fp_add'");
+  // a row whose format differs from its command's
+  std::string wrong_fmt = row("fp_add", "e7m16", 2, 100);
+  wrong_fmt.replace(wrong_fmt.find("\"format\": \"e7m16\""), 17, "\"format\": \"e8m23\"");
+  one_line(resolve_error(table_json(wrong_fmt + ", " + good)),
+           "row 1 (fp_add e8m23 Stages 2): command has --format e7m16, the row says format e8m23");
+  std::string wrong_st = row("fp_add", "e8m23", 3, 100);
+  wrong_st.replace(wrong_st.find("\"stages\": 3"), 11, "\"stages\": 2");
+  one_line(resolve_error(table_json(wrong_st + ", " + good)), "command has --stages 3, the row says stages 2");
+  // a cell-flow row without its area / clock
+  std::string no_area = row("fp_add", "e8m23", 2, 100);
+  no_area.replace(no_area.find("\"area_um2\""), 10, "\"area_xx\"");
+  one_line(resolve_error(table_json(no_area)), "row 1 (fp_add e8m23 Stages 2): no number \"area_um2\" > 0");
+  one_line(resolve_error(table_json(row("fp_add", "e8m23", 2, 100, 0))), "no number \"fmax_mhz\" > 0");
+  one_line(resolve_error(table_json(row("fp_dot3", "e8m23", 2, 100))), "unit 'fp_dot3' is not a TRaX unit");
+  one_line(resolve_error(table_json(good + ", " + row("fp_add", "e8m23", 2, 100))),
+           "row 6: a second row for fp_add|e8m23|2 in flow osu018");
+  one_line(resolve_error(table_json(row("fp_add", "e9m99", 2, 100))), "row 1 (fp_add e9m99 Stages 2): format:");
+  one_line(resolve_error("{\"rows\": [" + good + "]}"), "no \"nand2_cell\"");
+  one_line(resolve_error("{\"rows\": [" + good), "not JSON");
+  one_line(resolve_error("{\"rowz\": []}"), "no \"rows\" array");
+  setenv("RU_TRAX_AREAS", "/nonexistent/areas.json", 1);
+  try {
+    resolve_config(default_config());
+    ADD_FAILURE() << "no error";
+  } catch (const ConfigError& e) {
+    one_line(e.what(), "trax area table /nonexistent/areas.json: cannot open the file");
+  }
+  unsetenv("RU_TRAX_AREAS");
+}
+
+// The checked-in table (model/data/trax/areas.json): every row valid and from the cell flow, the
+// rows the default chip needs measured for every format of the formats study (FP units) and at
+// e8m23 (box, both triangle units, noise), the NAND2X1 area equal to the liberty's (read from it,
+// when the liberty is installed), and the default chip's clock = its slowest unit's STA Fmax.
+TEST(TraxAreas, CheckedInTableIsComplete) {
+  const std::string path = std::string(RU_SOURCE_DIR) + "/model/data/trax/areas.json";
+  setenv("RU_TRAX_AREAS", path.c_str(), 1);
+  std::ifstream in(path);
+  const nlohmann::json j = nlohmann::json::parse(in);
+  for (const auto& r : j.at("rows")) {
+    EXPECT_EQ(r.at("flow"), "osu018") << r.at("command");
+    EXPECT_EQ(r.at("target_clock_ps"), 1000000.0) << r.at("command");  // the documented area-oriented mapping
+  }
+  const std::string lib = j.at("nand2_cell").at("liberty").get<std::string>();
+  if (std::ifstream(lib)) {
+    const auto parsed = ru::synth::parse_liberty("osu018", lib);
+    EXPECT_EQ(j.at("nand2_cell").at("area_um2").get<double>(), parsed.area.at("NAND2X1"));
+  }
+  std::vector<std::string> fmts = kDefaultFormats;
+  fmts.push_back("e5m6");
+  fmts.push_back("e7m14");
+  for (const std::string& f : fmts) {
+    Config c = default_config();
+    c.format = f;
+    std::vector<AreaSource> src;
+    const Config r = resolve_config(c, &src);
+    for (Unit u : {Unit::FpAdd, Unit::FpMul, Unit::FpDiv, Unit::FpCmp, Unit::Noise})
+      EXPECT_EQ(src[int(u)].how, "measured") << f << " " << unit_name(u);
+    EXPECT_GT(r.clock_mhz, 0) << f;
+  }
+  for (const char* tri : {"robust", "mt"}) {
+    Config c = default_config();
+    c.tri = tri;
+    std::vector<AreaSource> src;
+    const Config r = resolve_config(c, &src);
+    double slowest = 0;
+    for (Unit u : {Unit::FpAdd, Unit::FpMul, Unit::FpDiv, Unit::FpSqrt, Unit::FpCmp, Unit::Box, Unit::Tri,
+                   Unit::Noise}) {
+      EXPECT_EQ(src[int(u)].how, u == Unit::FpSqrt ? "estimate (= fp_div, no RTL)" : "measured")
+          << tri << " " << unit_name(u);
+      EXPECT_GT(r.unit(u).fmax_mhz, 0);
+      if (slowest == 0 || r.unit(u).fmax_mhz < slowest) slowest = r.unit(u).fmax_mhz;
+    }
+    EXPECT_EQ(r.unit(Unit::Conv).fmax_mhz, 0);  // estimates are not timed
+    EXPECT_EQ(r.clock_mhz, slowest) << tri;
+  }
+  unsetenv("RU_TRAX_AREAS");
+}
+
+// The planted error of the issue: the checked-in table with one row's format changed is refused.
+TEST(TraxAreas, CheckedInTableWithAPlantedErrorIsRefused) {
+  std::ifstream in(std::string(RU_SOURCE_DIR) + "/model/data/trax/areas.json");
+  nlohmann::json j = nlohmann::json::parse(in);
+  auto& rows = j.at("rows");
+  size_t k = 0;
+  while (k < rows.size() && !(rows[k].at("unit") == "fp_mul" && rows[k].at("format") == "e8m23")) ++k;
+  ASSERT_LT(k, rows.size());
+  rows[k]["format"] = "e7m16";  // e.g. a row copied under the wrong format
+  const std::string m = resolve_error(j.dump(1));
+  EXPECT_NE(m.find("row " + std::to_string(k + 1) + " (fp_mul e7m16 Stages 2): command has --format e8m23, the "
+                   "row says format e7m16"),
+            std::string::npos)
+      << m;
+  rows[k]["format"] = "e8m23";
+  rows[k]["unit"] = "fp_add";  // the wrong unit
+  EXPECT_NE(resolve_error(j.dump(1)).find("command synthesizes 'fp_mul', the row says unit 'fp_add'"),
+            std::string::npos);
+  rows[k]["unit"] = "fp_mul";
+  EXPECT_EQ(resolve_error(j.dump(1)), "");  // restored: accepted
 }
 
 TEST(TraxConfig, RtlAndSynthKeywords) {
@@ -135,6 +298,17 @@ TEST(TraxConfig, RtlAndSynthKeywords) {
   EXPECT_NE(msg("[units.fp_add]\nlatency = \"rtl\"\n").find("key 'units.fp_add.latency'"), std::string::npos);
   EXPECT_NE(msg("[units.conv]\narea = \"synth\"\n").find("key 'units.conv.area'"), std::string::npos);
   EXPECT_NE(msg("[units.box]\nlatency = \"fast\"\n").find("key 'units.box.latency'"), std::string::npos);
+  // the chip clock: "sta" (default) or MHz; NAND2-eq estimates: area_nand2, not together with area
+  EXPECT_EQ(default_config().clock_mhz, kClockSta);
+  EXPECT_EQ(parse_config("[chip]\nclock_mhz = 250.0\n", "t").clock_mhz, 250);
+  EXPECT_EQ(parse_config("[chip]\nclock_mhz = \"sta\"\n", "t").clock_mhz, kClockSta);
+  EXPECT_NE(msg("[chip]\nclock_mhz = \"fast\"\n").find("key 'chip.clock_mhz'"), std::string::npos);
+  const Config n = parse_config("[units.int]\narea_nand2 = 700.0\n", "t");
+  EXPECT_EQ(n.unit(Unit::Int).area, kAreaNand2);
+  EXPECT_EQ(n.unit(Unit::Int).area_nand2, 700);
+  EXPECT_EQ(to_toml(parse_config(to_toml(n), "rt")), to_toml(n));
+  EXPECT_NE(msg("[units.int]\narea_nand2 = 700.0\narea = 5.0\n").find("not both"), std::string::npos);
+  EXPECT_NE(msg("[units.int]\narea_nand2 = -1.0\n").find("key 'units.int.area_nand2'"), std::string::npos);
 }
 
 // ------------------------------------------------------------------ the issue observer

@@ -100,23 +100,22 @@ int Config::value_bytes() const {
 
 Config default_config() {
   Config c;
-  // latency, count per TM, width, area (NAND2-eq; docs/TRAX.md "Area model" says where each
-  // number comes from: measured in this project's Yosys flow, or composed from measured parts)
-  // latency, count per TM, width, area (NAND2-eq). "synth" areas come from the area table
-  // model/data/trax/areas.json for the chip's format and the unit's Stages (docs/TRAX.md
-  // "Area model" says which rows are measured and which composed); "rtl" latencies are the
-  // RTL Stages derived by rtl_latency().
-  c.unit(Unit::FpAdd) = {2, 4, 1, kAreaSynth};
-  c.unit(Unit::FpMul) = {2, 4, 1, kAreaSynth};
-  c.unit(Unit::FpDiv) = {16, 1, 1, kAreaSynth};
-  c.unit(Unit::FpSqrt) = {16, 1, 1, kAreaSynth};  // no RTL: the area of fp_div
-  c.unit(Unit::FpCmp) = {1, 4, 1, kAreaSynth};
-  c.unit(Unit::Conv) = {1, 2, 1, 1500};     // estimate: shifter + rounding
-  c.unit(Unit::Int) = {1, 8, 1, 500};       // estimate: 32-bit adder + logic
-  c.unit(Unit::Branch) = {1, 8, 1, 200};    // estimate
-  c.unit(Unit::Box) = {kLatencyRtl, 2, 1, kAreaSynth};
-  c.unit(Unit::Tri) = {kLatencyRtl, 1, 1, kAreaSynth};
-  c.unit(Unit::Noise) = {kLatencyRtl, 1, 1, kAreaSynth};
+  // latency, count per TM, width, area. "synth" areas (um2) and STA clocks come from the area
+  // table model/data/trax/areas.json (cell-flow rows) for the chip's format and the unit's
+  // Stages (docs/TRAX.md "Area model" says which rows are measured and which composed); "rtl"
+  // latencies are the RTL Stages derived by rtl_latency(); conv/int/branch have no RTL: estimates
+  // in NAND2-eq (area_nand2), charged as NAND2-eq x the liberty's NAND2X1 area.
+  c.unit(Unit::FpAdd) = {2, 4, 1, kAreaSynth, 0, 0};
+  c.unit(Unit::FpMul) = {2, 4, 1, kAreaSynth, 0, 0};
+  c.unit(Unit::FpDiv) = {16, 1, 1, kAreaSynth, 0, 0};
+  c.unit(Unit::FpSqrt) = {16, 1, 1, kAreaSynth, 0, 0};  // no RTL: the area of fp_div
+  c.unit(Unit::FpCmp) = {1, 4, 1, kAreaSynth, 0, 0};
+  c.unit(Unit::Conv) = {1, 2, 1, kAreaNand2, 1500, 0};   // estimate: shifter + rounding
+  c.unit(Unit::Int) = {1, 8, 1, kAreaNand2, 500, 0};     // estimate: 32-bit adder + logic
+  c.unit(Unit::Branch) = {1, 8, 1, kAreaNand2, 200, 0};  // estimate
+  c.unit(Unit::Box) = {kLatencyRtl, 2, 1, kAreaSynth, 0, 0};
+  c.unit(Unit::Tri) = {kLatencyRtl, 1, 1, kAreaSynth, 0, 0};
+  c.unit(Unit::Noise) = {kLatencyRtl, 1, 1, kAreaSynth, 0, 0};
   return c;
 }
 
@@ -124,7 +123,7 @@ void Config::validate(const std::string& source) const {
   Reader R{source};
   if (tms < 1 || tms > 4096) R.fail("chip.tms", "must be in 1..4096");
   if (tps_per_tm < 1 || tps_per_tm > 4096) R.fail("chip.tps_per_tm", "must be in 1..4096");
-  if (!(clock_mhz > 0)) R.fail("chip.clock_mhz", "must be > 0");
+  if (!(clock_mhz > 0) && clock_mhz != kClockSta) R.fail("chip.clock_mhz", "must be > 0 or \"sta\"");
   if (format != "float") {
     try {
       num::Format::parse(format).validate();
@@ -142,8 +141,11 @@ void Config::validate(const std::string& source) const {
     if (u.count < 1) R.fail(k + ".count", "must be >= 1");
     if (u.width < 1) R.fail(k + ".width", "must be >= 1");
     const bool synth_ok = i <= static_cast<int>(Unit::FpCmp) || rtl_ok;
-    if (u.area < 0 && !(u.area == kAreaSynth && synth_ok))
+    if (u.area == kAreaNand2) {
+      if (!(u.area_nand2 > 0)) R.fail(k + ".area_nand2", "must be > 0");
+    } else if (u.area < 0 && !(u.area == kAreaSynth && synth_ok)) {
       R.fail(k + ".area", synth_ok ? "must be >= 0 or \"synth\"" : "must be >= 0");
+    }
   }
   check_cache(R, l1, "l1");
   check_cache(R, l2, "l2");
@@ -169,7 +171,14 @@ Config parse_config(const std::string& text, const std::string& source, const Co
         const std::string key = sec + "." + std::string(k.str());
         if (k == "tms") c.tms = static_cast<int>(R.integer(v, key, 1, 4096));
         else if (k == "tps_per_tm") c.tps_per_tm = static_cast<int>(R.integer(v, key, 1, 4096));
-        else if (k == "clock_mhz") c.clock_mhz = R.number(v, key, 1e-3, 1e6);
+        else if (k == "clock_mhz") {
+          if (v.value_exact<std::string>()) {
+            if (*v.value_exact<std::string>() != "sta") R.fail(key, "must be a number (MHz) or \"sta\"");
+            c.clock_mhz = kClockSta;
+          } else {
+            c.clock_mhz = R.number(v, key, 1e-3, 1e6);
+          }
+        }
         else if (k == "format") {
           const auto s = v.value_exact<std::string>();
           if (!s) R.fail(key, "must be a string (float or eXmY[-ftz])");
@@ -204,6 +213,7 @@ Config parse_config(const std::string& text, const std::string& source, const Co
           if (uname == kUnitNames[i]) idx = i;
         if (idx < 0) R.fail("units." + uname, "unknown unit (units: " + unit_names() + ")");
         UnitCfg& u = c.units[idx];
+        bool has_area = false, has_nand2 = false;
         for (const auto& [k, v] : R.table(uv, "units." + uname)) {
           const std::string key = "units." + uname + "." + std::string(k.str());
           if (k == "latency") {
@@ -226,8 +236,16 @@ Config parse_config(const std::string& text, const std::string& source, const Co
             } else {
               u.area = R.number(v, key, 0, 1e12);
             }
+            u.area_nand2 = 0;
+            has_area = true;
+          } else if (k == "area_nand2") {
+            u.area_nand2 = R.number(v, key, 1e-9, 1e12);
+            u.area = kAreaNand2;
+            has_nand2 = true;
           }
-          else R.fail(key, "unknown key (accepted: latency, count, width, area)");
+          else R.fail(key, "unknown key (accepted: latency, count, width, area, area_nand2)");
+          if (has_area && has_nand2)
+            R.fail("units." + uname, "give area (um2 or \"synth\") or area_nand2 (an estimate in NAND2-eq), not both");
         }
       }
     } else if (sec == "atomic") {
@@ -280,8 +298,12 @@ std::string to_toml(const Config& c) {
   std::ostringstream o;
   o.precision(17);
   o << "[chip]\n"
-    << "tms = " << c.tms << "\ntps_per_tm = " << c.tps_per_tm << "\nclock_mhz = " << fmt_num(c.clock_mhz)
-    << (std::floor(c.clock_mhz) == c.clock_mhz ? ".0" : "") << "\nformat = \"" << c.format << "\"\ntri = \""
+    << "tms = " << c.tms << "\ntps_per_tm = " << c.tps_per_tm << "\nclock_mhz = ";
+  if (c.clock_mhz == kClockSta)
+    o << "\"sta\"";
+  else
+    o << fmt_num(c.clock_mhz) << (std::floor(c.clock_mhz) == c.clock_mhz ? ".0" : "");
+  o << "\nformat = \"" << c.format << "\"\ntri = \""
     << c.tri << "\"\nbox = \"" << c.box << "\"\nnoise = \"" << c.noise << "\"\ntraversal = \"" << c.traversal
     << "\"\nbvh = \"" << c.bvh << "\"\nleaf_size = " << c.leaf_size
     << "\nregisters_per_thread = " << c.registers_per_thread << "\nlocal_store_bytes = " << c.local_store_bytes
@@ -293,8 +315,10 @@ std::string to_toml(const Config& c) {
       o << "\"rtl\"";
     else
       o << u.latency;
-    o << "\ncount = " << u.count << "\nwidth = " << u.width << "\narea = ";
-    if (u.area == kAreaSynth)
+    o << "\ncount = " << u.count << "\nwidth = " << u.width << (u.area == kAreaNand2 ? "\narea_nand2 = " : "\narea = ");
+    if (u.area == kAreaNand2)
+      o << fmt_num(u.area_nand2) << (std::floor(u.area_nand2) == u.area_nand2 ? ".0" : "");
+    else if (u.area == kAreaSynth)
       o << "\"synth\"";
     else
       o << fmt_num(u.area) << (std::floor(u.area) == u.area ? ".0" : "");

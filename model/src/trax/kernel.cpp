@@ -639,7 +639,18 @@ TraxResult run_trax(const scene::Scene& s, const Config& c_in, int width, int he
   R.node_visits = C.visits;
   R.up_steps = C.up_steps;
   R.max_stack = C.max_stack;
-  R.area = area_estimate(c, R.sim);
+  R.area = area_estimate(c, R.sim, &sources);
+  if (c_in.clock_mhz == kClockSta) {
+    // The clock of the chip that is built: the units the kernel used (the area model charges
+    // exactly those), each at its STA Fmax; cycles do not depend on the clock.
+    std::vector<bool> used(kUnits);
+    for (int u = 0; u < kUnits; ++u) used[u] = R.sim.unit_ops[u] > 0;
+    R.clock = sta_clock(c, sources, used);
+    R.cfg.clock_mhz = R.clock.mhz;
+  } else {
+    R.clock.mhz = c.clock_mhz;
+    R.clock.how = "configured (chip.clock_mhz)";
+  }
   return R;
 }
 

@@ -6,29 +6,43 @@
 
 namespace ru::trax {
 
-Area area_estimate(const Config& c, const SimStats& st) {
+Area area_estimate(const Config& c, const SimStats& st, const std::vector<AreaSource>* sources) {
+  if (!(c.nand2_um2 > 0)) throw ConfigError("area_estimate: the configuration is not resolved (resolve_config)");
   Area a;
   for (int u = 0; u < kUnits; ++u) {
     if (!st.unit_ops[u]) continue;  // not used by the scene's kernel: not instantiated
     const UnitCfg& k = c.units[u];
-    a.items.push_back({std::string("unit ") + unit_name(static_cast<Unit>(u)), double(c.tms) * k.count, k.area});
+    const bool measured = sources && static_cast<size_t>(u) < sources->size() && (*sources)[u].how == "measured";
+    const std::string how = sources && static_cast<size_t>(u) < sources->size() ? (*sources)[u].how : "";
+    a.items.push_back({std::string("unit ") + unit_name(static_cast<Unit>(u)) + (measured || how.empty() ? "" : " (" + how + ")"),
+                       double(c.tms) * k.count, k.area, !measured});
     a.units += a.items.back().total();
   }
   const double reg_bits = 8.0 * c.value_bytes();
+  const std::string est = " NAND2-eq/bit x NAND2X1, estimate)";
+  auto n = [](double v) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%g", v);
+    return std::string(b);
+  };
   const std::vector<AreaItem> mem = {
       {"register files (" + std::to_string(c.registers_per_thread) + " x " + std::to_string(int(reg_bits)) +
-           " bits per thread)",
-       double(c.threads()), c.registers_per_thread * reg_bits * c.regfile_bit},
-      {"local stores (" + std::to_string(c.local_store_bytes) + " B per thread)", double(c.threads()),
-       c.local_store_bytes * 8.0 * c.sram_bit},
-      {"L1 data caches (" + std::to_string(c.l1.size) + " B)", double(c.tms), double(c.l1.size) * 8.0 * c.sram_bit},
-      {"L2 cache (" + std::to_string(c.l2.size) + " B)", 1.0, double(c.l2.size) * 8.0 * c.sram_bit},
+           " bits per thread; " + n(c.regfile_bit) + est,
+       double(c.threads()), c.registers_per_thread * reg_bits * c.regfile_bit * c.nand2_um2, true},
+      {"local stores (" + std::to_string(c.local_store_bytes) + " B per thread; " + n(c.sram_bit) + est,
+       double(c.threads()), c.local_store_bytes * 8.0 * c.sram_bit * c.nand2_um2, true},
+      {"L1 data caches (" + std::to_string(c.l1.size) + " B; " + n(c.sram_bit) + est, double(c.tms),
+       double(c.l1.size) * 8.0 * c.sram_bit * c.nand2_um2, true},
+      {"L2 cache (" + std::to_string(c.l2.size) + " B; " + n(c.sram_bit) + est, 1.0,
+       double(c.l2.size) * 8.0 * c.sram_bit * c.nand2_um2, true},
   };
   for (const auto& m : mem) {
     a.items.push_back(m);
     a.memories += m.total();
   }
   a.total = a.units + a.memories;
+  for (const auto& it : a.items)
+    if (it.estimate) a.estimated += it.total();
   return a;
 }
 
@@ -57,7 +71,7 @@ double tp_cycles(const TraxResult& r) { return double(r.sim.cycles) * r.cfg.thre
 std::string summary_line(const TraxResult& r) {
   std::ostringstream o;
   o << "cycles=" << r.sim.cycles << " rays=" << r.rays() << " rays_per_s=" << num(r.rays_per_second(), "%.4g")
-    << " (at " << num(r.cfg.clock_mhz, "%g") << " MHz) area=" << num(r.area.total, "%.4g");
+    << " (at " << num(r.cfg.clock_mhz, "%g") << " MHz) area=" << num(r.area.total / 1e6, "%.4g") << "mm2";
   return o.str();
 }
 
@@ -87,7 +101,8 @@ std::string summary_json(const TraxResult& r, const std::string& scene_name, con
     const UnitCfg& k = c.units[u];
     o << (first ? "" : ", ") << "\"" << unit_name(static_cast<Unit>(u)) << "\": {\"ops\": " << s.unit_ops[u]
       << ", \"utilisation\": " << num(s.utilisation(c, static_cast<Unit>(u))) << ", \"latency\": " << k.latency
-      << ", \"count\": " << k.count << ", \"width\": " << k.width << ", \"area\": " << num(k.area) << "}";
+      << ", \"count\": " << k.count << ", \"width\": " << k.width << ", \"area_um2\": " << num(k.area)
+      << ", \"fmax_mhz\": " << num(k.fmax_mhz) << "}";
     first = false;
   }
   o << "},\n  \"stalls\": {\"dependency\": " << s.stall_dependency << ", \"memory\": " << s.stall_memory
@@ -98,14 +113,16 @@ std::string summary_json(const TraxResult& r, const std::string& scene_name, con
     << "  \"l2\": {\"accesses\": " << s.l2.accesses << ", \"hits\": " << s.l2.hits << ", \"pending_hits\": "
     << s.l2.pending_hits << ", \"misses\": " << s.l2.misses << ", \"hit_rate\": " << num(s.l2.hit_rate()) << "},\n"
     << "  \"dram\": {\"read_bytes\": " << s.dram_read_bytes << ", \"write_bytes\": " << s.dram_write_bytes
-    << ", \"gb_per_s\": " << num(dram_gbps(r)) << "},\n  \"area\": {\"total\": " << num(r.area.total)
-    << ", \"units\": " << num(r.area.units) << ", \"memories\": " << num(r.area.memories) << ", \"items\": [";
+    << ", \"gb_per_s\": " << num(dram_gbps(r)) << "},\n  \"area_um2\": {\"total\": " << num(r.area.total)
+    << ", \"units\": " << num(r.area.units) << ", \"memories\": " << num(r.area.memories)
+    << ", \"estimated\": " << num(r.area.estimated) << ", \"nand2_um2\": " << num(c.nand2_um2) << ", \"items\": [";
   for (size_t i = 0; i < r.area.items.size(); ++i) {
     const auto& it = r.area.items[i];
     o << (i ? ", " : "") << "{\"name\": \"" << esc(it.name) << "\", \"count\": " << num(it.count)
-      << ", \"each\": " << num(it.each) << ", \"total\": " << num(it.total()) << "}";
+      << ", \"each\": " << num(it.each) << ", \"total\": " << num(it.total())
+      << ", \"estimate\": " << (it.estimate ? "true" : "false") << "}";
   }
-  o << "]},\n  \"rays_per_s_per_area\": " << num(r.area.total > 0 ? r.rays_per_second() / r.area.total : 0.0)
+  o << "]},\n  \"rays_per_s_per_mm2\": " << num(r.area.total > 0 ? r.rays_per_second() / (r.area.total / 1e6) : 0.0)
     << ",\n  \"host_seconds\": " << num(s.host_seconds) << ", \"host_instructions_per_s\": "
     << num(s.host_seconds > 0 ? double(s.instructions) / s.host_seconds : 0.0) << "\n}\n";
   return o.str();
@@ -119,7 +136,8 @@ std::string summary_md(const TraxResult& r, const std::string& scene_name, const
   o << "# TRaX model: " << scene_name << " " << r.image.width << "x" << r.image.height << "\n\n`" << command
     << "`\n\n"
     << "| | |\n|---|---|\n"
-    << "| chip | " << c.tms << " TMs x " << c.tps_per_tm << " TPs at " << num(c.clock_mhz, "%g") << " MHz |\n"
+    << "| chip | " << c.tms << " TMs x " << c.tps_per_tm << " TPs at " << num(c.clock_mhz, "%.4g") << " MHz |\n"
+    << "| clock | " << r.clock.how << " |\n"
     << "| format / tri / box / noise | " << c.format << " / " << c.tri << " / " << c.box << " / " << c.noise << " |\n"
     << "| traversal | " << c.traversal << " (BVH " << c.bvh << ", " << r.bvh_nodes << " nodes, depth " << r.bvh_depth
     << ") |\n"
@@ -140,9 +158,10 @@ std::string summary_md(const TraxResult& r, const std::string& scene_name, const
     << "| L2 hit rate | " << num(100 * s.l2.hit_rate(), "%.2f") << " % (" << s.l2.accesses << " accesses) |\n"
     << "| DRAM | " << s.dram_read_bytes << " B read, " << s.dram_write_bytes << " B written, "
     << num(dram_gbps(r), "%.3f") << " GB/s |\n"
-    << "| area | " << num(r.area.total, "%.4g") << " NAND2-eq (units " << num(r.area.units, "%.4g") << ", memories "
-    << num(r.area.memories, "%.4g") << ") |\n"
-    << "| rays/s per NAND2-eq | " << num(r.area.total > 0 ? r.rays_per_second() / r.area.total : 0, "%.4g") << " |\n"
+    << "| area | " << num(r.area.total / 1e6, "%.4g") << " mm2 (units " << num(r.area.units / 1e6, "%.4g")
+    << ", memories " << num(r.area.memories / 1e6, "%.4g") << " [estimate]; " << num(r.area.estimated / 1e6, "%.4g")
+    << " mm2 of it estimated, the rest osu018 cell area before placement) |\n"
+    << "| rays/s per mm2 | " << num(r.area.total > 0 ? r.rays_per_second() / (r.area.total / 1e6) : 0, "%.4g") << " |\n"
     << "| host | " << num(s.host_seconds, "%.2f") << " s, "
     << num(s.host_seconds > 0 ? s.instructions / s.host_seconds / 1e6 : 0, "%.2f") << " M thread-instructions/s |\n\n";
   o << "## Stalls (TP-cycles, of " << num(tpc, "%.0f") << ")\n\n| cause | TP-cycles | share |\n|---|---:|---:|\n";
@@ -152,27 +171,32 @@ std::string summary_md(const TraxResult& r, const std::string& scene_name, const
   row("memory (load / local store / atomic result, L1 bank conflict)", s.stall_memory);
   row("unit contention", s.stall_contention);
   row("idle (halted)", s.idle);
-  o << "\n## Functional units (per TM)\n\n| unit | latency | count | width | ops | utilisation | area each |\n"
-       "|---|---:|---:|---:|---:|---:|---:|\n";
+  o << "\n## Functional units (per TM)\n\n| unit | latency | count | width | ops | utilisation | area each (um2) | "
+       "STA Fmax (MHz) |\n|---|---:|---:|---:|---:|---:|---:|---:|\n";
   for (int u = 0; u < kUnits; ++u) {
     const UnitCfg& k = c.units[u];
     if (!s.unit_ops[u]) {
-      o << "| " << unit_name(static_cast<Unit>(u)) << " | not used by this scene: not instantiated | | | | | |\n";
+      o << "| " << unit_name(static_cast<Unit>(u)) << " | not used by this scene: not instantiated | | | | | | |\n";
       continue;
     }
     o << "| " << unit_name(static_cast<Unit>(u)) << " | " << k.latency << " | " << k.count << " | " << k.width << " | "
       << s.unit_ops[u] << " | " << num(100 * s.utilisation(c, static_cast<Unit>(u)), "%.1f") << " % | "
-      << num(k.area, "%.0f") << " |\n";
+      << num(k.area, "%.0f") << " | " << (k.fmax_mhz > 0 ? num(k.fmax_mhz, "%.1f") : std::string("not timed")) << " |\n";
   }
-  o << "\n## Area model (NAND2-eq)\n\n| item | count | each | total |\n|---|---:|---:|---:|\n";
+  o << "\n## Area model (um2; osu018 cell area before placement, NAND2X1 = " << num(c.nand2_um2, "%g")
+    << " um2)\n\n| item | count | each | total | |\n|---|---:|---:|---:|---|\n";
   for (const auto& it : r.area.items)
     o << "| " << it.name << " | " << num(it.count, "%g") << " | " << num(it.each, "%.0f") << " | "
-      << num(it.total(), "%.0f") << " |\n";
-  o << "| **total** | | | **" << num(r.area.total, "%.0f") << "** |\n";
+      << num(it.total(), "%.0f") << " | " << (it.estimate ? "estimate" : "measured") << " |\n";
+  o << "| **total** | | | **" << num(r.area.total, "%.0f") << "** | " << num(r.area.estimated, "%.0f")
+    << " estimated |\n";
   if (!r.area_sources.empty()) {
     o << "\nUnit areas (docs/TRAX.md \"Area model\"; rows of model/data/trax/areas.json):\n\n";
     for (const auto& a : r.area_sources)
-      if (a.how != "configured") o << "- " << a.unit << ": " << a.how << (a.detail.empty() ? "" : " -- `" + a.detail + "`") << "\n";
+      if (a.how != "configured")
+        o << "- " << a.unit << ": " << a.how
+          << (a.fmax_mhz > 0 ? ", Fmax " + num(a.fmax_mhz, "%.1f") + " MHz (" + a.fmax_how + ")" : std::string(", not timed"))
+          << (a.detail.empty() ? "" : " -- `" + a.detail + "`") << "\n";
   }
   o << "\n## Instruction mix\n\n| op | count |\n|---|---:|\n";
   for (int i = 0; i < kOps; ++i)

@@ -386,7 +386,8 @@ SimStats simulate(const Config& cfg, WorkSource& work, bool progress, IssueObser
   } context;
   sc_core::sc_report_handler::set_actions(sc_core::SC_INFO, sc_core::SC_DO_NOTHING);
   Machine m(rc, work, observer);
-  const double ps = std::max(1.0, std::round(1e6 / rc.clock_mhz));
+  // SystemC's clock period; cycles do not depend on it (an unresolved "sta" clock: 1 ns)
+  const double ps = std::max(2.0, std::round(1e6 / (rc.clock_mhz > 0 ? rc.clock_mhz : 1000.0)));
   context.top = std::make_unique<Chip>("trax", sc_core::sc_time(ps, sc_core::SC_PS), m, progress);
   sc_core::sc_start();
   SimStats st = m.st;

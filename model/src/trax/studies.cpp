@@ -35,8 +35,9 @@ RunOptions quiet_run() {
   return r;
 }
 
-// rays/s per 10^6 NAND2-eq
+// rays/s per mm2 (um2 / 1e6)
 double per_area(const TraxResult& r) { return r.area.total > 0 ? r.rays_per_second() / (r.area.total / 1e6) : 0; }
+std::string mm2(double um2) { return f(um2 / 1e6, "%.4g"); }
 
 std::string source_of(const TraxResult& r, const std::string& unit) {
   for (const auto& a : r.area_sources)
@@ -49,9 +50,9 @@ StudyTable formats(const scene::Scene& s, const StudyOptions& o) {
   t.kind = "formats";
   t.title = "Whole-chip speed/accuracy trade (scene " + s.name + ", " + std::to_string(o.width) + "x" +
             std::to_string(o.height) + ")";
-  t.cols = {"format", "bits", "cycles", "rays", "rays_per_s", "area_nand2", "unit_area_nand2",
-            "rays_per_s_per_mnand2", "error_pixels", "error_pct", "psnr_db", "tolerated", "box_latency",
-            "tri_latency", "box_area_source", "tri_area_source"};
+  t.cols = {"format", "bits", "cycles", "clock_mhz", "clock_unit", "rays", "rays_per_s", "area_mm2",
+            "unit_area_mm2", "estimated_mm2", "rays_per_s_per_mm2", "rays_per_s_per_unit_mm2", "error_pixels", "error_pct", "psnr_db",
+            "tolerated", "box_latency", "tri_latency", "box_area_source", "tri_area_source", "clock_source"};
   Config rc = o.base;
   render::RenderOptions ro = render_options(rc, o.width, o.height);
   ro.format = "double";
@@ -68,17 +69,21 @@ StudyTable formats(const scene::Scene& s, const StudyOptions& o) {
     const double pct = d.pixels ? 100.0 * double(d.errors) / double(d.pixels) : 0;
     const bool ok = pct <= 0.1 && d.psnr >= 40.0;
     const num::Format F = num::Format::parse(fm == "float" ? "e8m23" : fm);
-    t.rows.push_back({fm, i(F.width()), i(r.sim.cycles), i(r.rays()), f(r.rays_per_second()), f(r.area.total, "%.0f"),
-                      f(r.area.units, "%.0f"), f(per_area(r)), i(d.errors), f(pct, "%.3f"), f(d.psnr, "%.2f"),
-                      ok ? "yes" : "no", i(r.cfg.unit(Unit::Box).latency), i(r.cfg.unit(Unit::Tri).latency),
-                      source_of(r, "ray_box"), source_of(r, r.cfg.tri == "mt" ? "ray_tri_mt" : "ray_tri_robust")});
+    t.rows.push_back({fm, i(F.width()), i(r.sim.cycles), f(r.cfg.clock_mhz, "%.1f"), r.clock.unit, i(r.rays()),
+                      f(r.rays_per_second()), mm2(r.area.total), mm2(r.area.units), mm2(r.area.estimated),
+                      f(per_area(r)), f(r.area.units > 0 ? r.rays_per_second() / (r.area.units / 1e6) : 0), i(d.errors), f(pct, "%.3f"), f(d.psnr, "%.2f"), ok ? "yes" : "no",
+                      i(r.cfg.unit(Unit::Box).latency), i(r.cfg.unit(Unit::Tri).latency), source_of(r, "ray_box"),
+                      source_of(r, r.cfg.tri == "mt" ? "ray_tri_mt" : "ray_tri_robust"), r.clock.how});
   }
   t.note = "Every FP operation, the box/triangle units and the noise unit compute in the format; the image error is "
            "against the same renderer in double (pixels with a channel more than 10 % off; PSNR, peak 1). "
-           "\"tolerated\": <= 0.1 % error pixels and PSNR >= 40 dB (the target of `rayunits profile`). Area: "
-           "units (Yosys NAND2-eq from model/data/trax/areas.json: measured rows, box/tri composed from the FP rows "
-           "where not measured) plus register files, local stores and caches (docs/TRAX.md); rays/s at the "
-           "configured clock, which does not change with the format here.";
+           "\"tolerated\": <= 0.1 % error pixels and PSNR >= 40 dB (the target of `rayunits profile`). Area (mm2): "
+           "units (osu018 cell area before placement from model/data/trax/areas.json: measured rows, box/tri "
+           "composed from the FP rows where not measured) plus register files, local stores and caches "
+           "(estimates: NAND2-eq per bit x the liberty's NAND2X1 area; estimated_mm2 = every estimated item; "
+           "rays_per_s_per_unit_mm2 counts the functional units only); "
+           "rays/s at the chip clock = the STA Fmax of the slowest used unit at its Stages (clock_unit; "
+           "clock_source says whether it is measured or estimated), docs/TRAX.md.";
   return t;
 }
 
@@ -116,7 +121,7 @@ StudyTable traversal(const scene::Scene& s, const StudyOptions& o) {
   t.kind = "traversal";
   t.title = "Stack vs stackless traversal (scene " + s.name + ")";
   t.cols = {"traversal", "cycles", "rays_per_s", "instructions", "box_tests", "node_visits", "up_steps",
-            "local_store_used_bytes", "local_store_bytes", "max_live_registers", "area_nand2", "rays_per_s_per_mnand2"};
+            "local_store_used_bytes", "local_store_bytes", "max_live_registers", "area_mm2", "rays_per_s_per_mm2"};
   for (const std::string tv : {"stack", "stackless"}) {
     Config c = o.base;
     c.traversal = tv;
@@ -125,7 +130,7 @@ StudyTable traversal(const scene::Scene& s, const StudyOptions& o) {
     const TraxResult r = run_trax(s, c, o.width, o.height, quiet_run());
     t.rows.push_back({tv, i(r.sim.cycles), f(r.rays_per_second()), i(r.sim.instructions), i(r.box_tests),
                       i(r.node_visits), i(r.up_steps), i(8ull * r.max_stack), i(c.local_store_bytes),
-                      i(r.sim.max_live_registers), f(r.area.total, "%.0f"), f(per_area(r))});
+                      i(r.sim.max_live_registers), mm2(r.area.total), f(per_area(r))});
   }
   t.note = "The same triangles are tested in the same order by both (images equal); stackless re-tests the far "
            "sibling's box and loads parent links instead of keeping a stack, and is charged no local store "
@@ -138,7 +143,7 @@ StudyTable noise(const scene::Scene& s, const StudyOptions& o) {
   t.kind = "noise";
   t.title = "Hardware noise unit vs noise in software on the TPs (scene " + s.name + ")";
   t.cols = {"noise", "cycles", "rays_per_s", "instructions", "noise_evals", "instructions_per_noise",
-            "area_nand2", "noise_unit_area_nand2", "rays_per_s_per_mnand2"};
+            "clock_mhz", "area_mm2", "noise_unit_area_mm2", "rays_per_s_per_mm2"};
   uint64_t hw_instr = 0;
   for (const bool sw : {false, true}) {
     RunOptions ro;
@@ -149,11 +154,11 @@ StudyTable noise(const scene::Scene& s, const StudyOptions& o) {
     const uint64_t evals = sw ? r.software_noise_evals : r.noise_evals;
     double unit_area = 0;
     for (const auto& a : r.area.items)
-      if (a.name == "unit noise") unit_area = a.total();
+      if (a.name.rfind("unit noise", 0) == 0) unit_area = a.total();
     t.rows.push_back({sw ? "software (TPs)" : "hardware unit", i(r.sim.cycles), f(r.rays_per_second()),
                       i(r.sim.instructions), i(evals),
                       sw && evals ? f(double(r.sim.instructions - hw_instr) / double(evals) + 1, "%.1f") : "1",
-                      f(r.area.total, "%.0f"), f(unit_area, "%.0f"), f(per_area(r))});
+                      f(r.cfg.clock_mhz, "%.1f"), mm2(r.area.total), mm2(unit_area), f(per_area(r))});
   }
   t.note = "Software: the unit's algorithm as TP instructions in the chip's format (per evaluation ~200 "
            "instructions incl. 30 table loads; docs/TRAX.md), timing only (values from the hardware model); the "
@@ -166,7 +171,7 @@ StudyTable units(const scene::Scene& s, const StudyOptions& o) {
   StudyTable t;
   t.kind = "units";
   t.title = "FP adder/multiplier count sweep (scene " + s.name + ")";
-  t.cols = {"fp_units_per_tm", "threads_per_fp_unit", "cycles", "rays_per_s", "area_nand2", "rays_per_s_per_mnand2",
+  t.cols = {"fp_units_per_tm", "threads_per_fp_unit", "cycles", "rays_per_s", "area_mm2", "rays_per_s_per_mm2",
             "fp_add_util_pct", "fp_mul_util_pct", "contention_stall_pct"};
   for (int n = 1; n <= o.base.tps_per_tm; n *= 2) {
     Config c = o.base;
@@ -176,7 +181,7 @@ StudyTable units(const scene::Scene& s, const StudyOptions& o) {
     const TraxResult r = run_trax(s, c, o.width, o.height, quiet_run());
     const double tpc = double(r.sim.cycles) * c.threads();
     t.rows.push_back({i(n), f(double(c.tps_per_tm) / n, "%g"), i(r.sim.cycles), f(r.rays_per_second()),
-                      f(r.area.total, "%.0f"), f(per_area(r)), f(100 * r.sim.utilisation(r.cfg, Unit::FpAdd), "%.1f"),
+                      mm2(r.area.total), f(per_area(r)), f(100 * r.sim.utilisation(r.cfg, Unit::FpAdd), "%.1f"),
                       f(100 * r.sim.utilisation(r.cfg, Unit::FpMul), "%.1f"),
                       f(tpc > 0 ? 100.0 * r.sim.stall_contention / tpc : 0, "%.2f")});
   }

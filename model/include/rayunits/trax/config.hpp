@@ -2,15 +2,17 @@
 //
 // The schema (every key optional; the defaults are default_config(), documented key by key in
 // model/data/trax/default.toml and docs/TRAX.md):
-//   [chip]      tms, tps_per_tm, clock_mhz, format, tri, box, noise, traversal, bvh, leaf_size,
-//               registers_per_thread, local_store_bytes, framebuffer_bytes_per_pixel
-//   [units.NAME] latency, count, width, area     NAME in unit_names() (per TM: count pipelined
-//               units, each accepting `width` operations per cycle, results after `latency`)
+//   [chip]      tms, tps_per_tm, clock_mhz ("sta" or MHz), format, tri, box, noise, traversal, bvh,
+//               leaf_size, registers_per_thread, local_store_bytes, framebuffer_bytes_per_pixel
+//   [units.NAME] latency, count, width, area (um2 or "synth") | area_nand2 (an estimate in
+//               NAND2-eq)   NAME in unit_names() (per TM: count pipelined units, each accepting
+//               `width` operations per cycle, results after `latency`)
 //   [atomic]    latency                          (one chip-wide atomic-increment unit, 1/cycle)
 //   [local_store] latency
 //   [l1], [l2]  size, banks, line, latency, ways (L1 per TM, L2 shared)
 //   [dram]      latency, bytes_per_cycle
-//   [area]      sram_bit, regfile_bit            (NAND2-equivalents per bit)
+//   [area]      sram_bit, regfile_bit            (NAND2-equivalents per bit: estimates, charged in
+//               um2 as NAND2-eq x the NAND2X1 cell area of the area table's liberty)
 // A bad file gives ConfigError with one line naming the key: "trax config FILE: key
 // 'l1.banks': must be a power of two in 1..1024 (got 3)"; unknown keys are errors too.
 #pragma once
@@ -51,10 +53,16 @@ struct UnitCfg {
   int latency = 1;  // cycles from issue to result (>= 1); 0 = "rtl" (box, tri, noise): rtl_latency()
   int count = 1;    // units per TM
   int width = 1;    // operations accepted per unit per cycle
-  double area = 0;  // NAND2-equivalents per unit; kAreaSynth = "synth": from the area table
+  // um2 (cell area) per unit; kAreaSynth = "synth": from the area table (cell-flow rows);
+  // kAreaNand2: the estimate area_nand2 (NAND2-eq) x the NAND2X1 area (resolve_config)
+  double area = 0;
+  double area_nand2 = 0;  // TOML area_nand2: an estimate in NAND2-equivalents
+  double fmax_mhz = 0;    // resolved: the STA Fmax of the unit's row (0: not timed)
 };
 constexpr double kAreaSynth = -1;  // TOML area = "synth"
+constexpr double kAreaNand2 = -2;  // TOML area_nand2 = N
 constexpr int kLatencyRtl = 0;     // TOML latency = "rtl"
+constexpr double kClockSta = -1;   // TOML chip.clock_mhz = "sta"
 
 struct CacheCfg {
   uint64_t size = 0;  // bytes
@@ -67,7 +75,8 @@ struct CacheCfg {
 struct Config {
   // [chip]
   int tms = 4, tps_per_tm = 32;
-  double clock_mhz = 1000;
+  // MHz, or kClockSta: the slowest used unit's STA Fmax at its Stages (area table rows)
+  double clock_mhz = kClockSta;
   std::string format = "e8m23";   // eXmY[-ftz] or float (= e8m23)
   std::string tri = "robust";     // robust | mt
   std::string box = "plain";      // plain | conservative
@@ -91,6 +100,9 @@ struct Config {
   // [area]
   double sram_bit = 1.5;     // 6T cell / 4T NAND2
   double regfile_bit = 6.0;  // a flip-flop with read/write ports ~ 24 transistors
+  // resolved (resolve_config, not a TOML key): um2 of one NAND2-eq, the NAND2X1 cell area the
+  // area table read from its liberty (memories and NAND2-eq unit estimates are charged with it)
+  double nand2_um2 = 0;
 
   const UnitCfg& unit(Unit u) const { return units[static_cast<int>(u)]; }
   UnitCfg& unit(Unit u) { return units[static_cast<int>(u)]; }
@@ -116,18 +128,34 @@ Config default_config();
 // (simtrax defaults 2, 2, 16, 1: box 7, robust 29, mt 33).
 int rtl_latency(const Config& c, Unit u);
 
-// Where a unit's area came from (resolve_config fills it for area = "synth").
+// Where a unit's area (and clock) came from (resolve_config fills it).
 struct AreaSource {
   std::string unit;     // "fp_add", "ray_tri_robust", ...
-  std::string how;      // "measured" | "composed" | "estimate" | "configured"
+  std::string how;      // "measured" | "composed" | "composed, scaled" | "estimate ..." | "configured"
   std::string detail;   // the synth command, or the composition
+  double fmax_mhz = 0;  // STA Fmax of the row (0: not timed)
+  std::string fmax_how; // "STA" (the row's netlist) | "estimate (...)" | "" (not timed)
 };
 
-// Resolves "rtl" latencies and "synth" areas (model/data/trax/areas.json, or $RU_TRAX_AREAS):
-// areas by (unit, format, Stages = latency): a measured row if present, else box / tri composed
+// The chip clock for clock_mhz = "sta": the lowest fmax_mhz of the resolved units with
+// used[u] (all units if used is empty) that have one. Throws ConfigError if none has one.
+struct ChipClock {
+  double mhz = 0;
+  std::string unit;  // the limiting unit ("tri", ...)
+  std::string how;   // one line: "STA: slowest used unit tri (ray_tri_robust e8m23 Stages 29) 72.8 MHz ..."
+};
+ChipClock sta_clock(const Config& resolved, const std::vector<AreaSource>& sources, const std::vector<bool>& used = {});
+
+// The area table's path ($RU_TRAX_AREAS or model/data/trax/areas.json).
+std::string area_table_path();
+
+// Resolves "rtl" latencies, "synth" / NAND2-eq areas (um2) and the "sta" clock from the area
+// table (model/data/trax/areas.json, or $RU_TRAX_AREAS): areas by (unit, format, Stages =
+// latency): a measured row if present (cell flow: area_um2 and fmax_mhz), else box / tri composed
 // from the measured FP-unit rows of the format (box 6 add + 6 mul + 7 cmp; robust 43 add + 39
 // mul + 3 div + 20 cmp; mt 24 add + 27 mul + 1 div + 5 cmp), fp_sqrt = fp_div (no RTL). A
-// missing FP row throws ConfigError naming the unit, format and Stages.
+// missing FP row, a malformed row or a missing table throws ConfigError with one line. The
+// "sta" clock is resolved over every unit here; run_trax narrows it to the units the kernel used.
 Config resolve_config(const Config& c, std::vector<AreaSource>* sources = nullptr);
 
 // Reads TOML text on top of `base`; `source` names the file in error messages.

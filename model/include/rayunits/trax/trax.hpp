@@ -15,16 +15,19 @@ namespace ru::trax {
 struct AreaItem {
   std::string name;
   double count = 0;  // instances on the chip
-  double each = 0;   // NAND2-eq per instance
+  double each = 0;   // um2 per instance
+  bool estimate = false;  // not a cell-flow measurement (memories, NAND2-eq estimates, composed units)
   double total() const { return count * each; }
 };
 struct Area {
   std::vector<AreaItem> items;
-  double total = 0, units = 0, memories = 0;
+  double total = 0, units = 0, memories = 0;  // um2
+  double estimated = 0;                       // um2 of items with estimate = true
 };
 // Functional units with at least one issued operation x count x TMs, plus register files,
-// local stores, L1s and the L2 (docs/TRAX.md "Area model").
-Area area_estimate(const Config& c, const SimStats& st);
+// local stores, L1s and the L2 (docs/TRAX.md "Area model"), in um2. Memories are NAND2-eq per bit
+// x the NAND2X1 cell area (c.nand2_um2): estimates, labelled so.
+Area area_estimate(const Config& c, const SimStats& st, const std::vector<AreaSource>* sources = nullptr);
 
 struct TraxResult {
   Config cfg;  // resolved (resolve_config): "rtl" latencies and "synth" areas filled in
@@ -38,6 +41,7 @@ struct TraxResult {
   size_t bvh_nodes = 0;
   int bvh_depth = 0;
   Area area;
+  ChipClock clock;  // cfg.clock_mhz and where it came from (STA of the slowest used unit, or configured)
   uint64_t rays() const { return primary_rays + shadow_rays + bounce_rays; }
   double seconds() const { return double(sim.cycles) / (cfg.clock_mhz * 1e6); }
   double rays_per_second() const { return sim.cycles ? double(rays()) / seconds() : 0.0; }
