@@ -31,10 +31,15 @@ int run_watertight_cmd(int argc, char** argv) {
   g->require_option(1);
   app.add_option("--format", a.format, "number format eXmY[-ftz] (e8m23 runs as native float, e11m52 as double)")
       ->capture_default_str();
-  app.add_option("--tri", a.tri, "robust (Kensler Fig. 3.6) or mt (Moller-Trumbore)")
-      ->check(CLI::IsMember({"robust", "mt"}))
+  app.add_option("--tri", a.tri,
+                 "robust (Kensler Fig. 3.6), mt (Moller-Trumbore) or exact (ray_tri_exact: exact edge signs, "
+                 "symbolic perturbation of the ray; exactly once)")
+      ->check(CLI::IsMember({"robust", "mt", "exact"}))
       ->capture_default_str();
   app.add_option("--rays", a.rays, "number of rays (half edge, half vertex rays)")->capture_default_str();
+  app.add_option("--near-vertex", a.near_vertex,
+                 "additional rays aimed within -3..3 ulps (per coordinate) of a random vertex")
+      ->capture_default_str();
   app.add_option("--seed", a.seed, "random seed")->capture_default_str();
   app.add_option("--threads", a.threads, "worker threads")->capture_default_str()->check(CLI::Range(1, 64));
   app.add_flag("--tie-break", a.tie_break, "robust: enable Fig. 3.6's optional zero-volume tie-break");
@@ -59,6 +64,9 @@ WatertightRun run_watertight_study(const WatertightArgs& args, std::FILE* out, s
   WatertightOptions opt;
   opt.fmt = ru::num::Format::parse(format);
   opt.robust = tri == "robust";
+  opt.exact = tri == "exact";
+  opt.near_vertex_rays = args.near_vertex;
+  if (opt.exact && tie_break) throw UsageError("--tie-break applies to --tri robust only");
   opt.tri.tie_break = tie_break;
   opt.rays = rays;
   opt.seed = seed;
@@ -81,15 +89,24 @@ WatertightRun run_watertight_study(const WatertightArgs& args, std::FILE* out, s
               mesh.name.c_str(), r.vertices, r.triangles, opt.fmt.name().c_str(), tri.c_str(),
               tie_break ? " (tie-break)" : "", static_cast<unsigned long long>(seed));
   std::fprintf(out, "rays: %zu through shared edges (%zu exactly on the edge, %zu within rounding of it), "
-              "%zu through shared vertices\n",
-              r.edge.rays, r.edge.rays - r.near_edge_rays, r.near_edge_rays, r.vertex.rays);
-  std::fprintf(out, "%-8s %10s %8s %12s %12s %12s\n", "", "rays", "leaks", "double_hits", "leaks/Mray", "double/Mray");
+              "%zu through shared vertices, %zu within a few ulps of a vertex\n",
+              r.edge.rays, r.edge.rays - r.near_edge_rays, r.near_edge_rays, r.vertex.rays, r.near_vertex.rays);
+  std::fprintf(out, "leak: fewer triangles hit than the exact oracle's crossings of the perturbed ray; double: more\n");
+  std::fprintf(out, "%-11s %10s %8s %12s %12s %12s %14s", "", "rays", "leaks", "double_hits", "leaks/Mray",
+               "double/Mray", "oracle_not_1");
+  if (opt.exact) std::fprintf(out, " %10s %10s %9s", "tests", "slow", "slow_%");
+  std::fprintf(out, "\n");
   auto row = [&](const char* name, const WatertightCounts& c) {
-    std::fprintf(out, "%-8s %10zu %8zu %12zu %12.0f %12.0f\n", name, c.rays, c.leaks, c.double_hits,
-                per_million(c.leaks, c.rays), per_million(c.double_hits, c.rays));
+    std::fprintf(out, "%-11s %10zu %8zu %12zu %12.0f %12.0f %14zu", name, c.rays, c.leaks, c.double_hits,
+                per_million(c.leaks, c.rays), per_million(c.double_hits, c.rays), c.oracle_not_one);
+    if (opt.exact)
+      std::fprintf(out, " %10zu %10zu %9.3f", c.tests, c.slow_tests,
+                   c.tests ? 100.0 * static_cast<double>(c.slow_tests) / static_cast<double>(c.tests) : 0.0);
+    std::fprintf(out, "\n");
   };
   row("edge", r.edge);
   row("vertex", r.vertex);
+  if (r.near_vertex.rays) row("near-vertex", r.near_vertex);
   row("all", tot);
   std::fprintf(out, "exact check: %zu rays hit nothing in exact arithmetic (must be 0); %zu rays aimed only "
               "within rounding; candidates/ray %.1f; rays with overflow: %zu\n",
@@ -102,11 +119,13 @@ WatertightRun run_watertight_study(const WatertightArgs& args, std::FILE* out, s
     if (!f) throw UsageError("cannot write " + csv);
     if (is_new)
       std::fprintf(f, "scene,format,tri,tie_break,seed,edge_rays,edge_leaks,edge_double_hits,vertex_rays,"
-                      "vertex_leaks,vertex_double_hits,near_edge_rays,exact_misses,overflow_rays\n");
-    std::fprintf(f, "%s,%s,%s,%d,%llu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu\n", mesh.name.c_str(),
+                      "vertex_leaks,vertex_double_hits,near_edge_rays,exact_misses,overflow_rays,"
+                      "near_vertex_rays,near_vertex_leaks,near_vertex_double_hits,oracle_not_one,tests,slow_tests\n");
+    std::fprintf(f, "%s,%s,%s,%d,%llu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu\n", mesh.name.c_str(),
                  opt.fmt.name().c_str(), tri.c_str(), tie_break ? 1 : 0, static_cast<unsigned long long>(seed),
                  r.edge.rays, r.edge.leaks, r.edge.double_hits, r.vertex.rays, r.vertex.leaks,
-                 r.vertex.double_hits, r.near_edge_rays, r.exact_misses, r.overflow_rays);
+                 r.vertex.double_hits, r.near_edge_rays, r.exact_misses, r.overflow_rays, r.near_vertex.rays,
+                 r.near_vertex.leaks, r.near_vertex.double_hits, tot.oracle_not_one, tot.tests, tot.slow_tests);
     std::fclose(f);
   }
   std::fprintf(out, "leaks=%zu double_hits=%zu rays=%zu\n", tot.leaks, tot.double_hits, tot.rays);

@@ -42,8 +42,16 @@ Vec3d unit(const Vec3d& v) {
 
 struct Ray {
   Vec3d a, d;
-  bool vertex = false, near_edge = false, inexact = false;
+  bool vertex = false, near_vertex = false, near_edge = false, inexact = false;
 };
+
+// x moved by k ulps of the format (k small; the result rounded into the format).
+double move_ulps(const Format& f, double x, int k) {
+  int e;
+  std::frexp(x, &e);  // |x| in [2^(e-1), 2^e)
+  const int ex = x == 0 ? f.emin() : std::max(e - 1, f.emin());
+  return round_to(f, x + k * std::ldexp(1.0, ex - f.frac_bits));
+}
 
 struct Prepared {
   Format fmt;
@@ -55,17 +63,25 @@ struct Prepared {
   std::vector<double> radius;
 };
 
-Ray make_ray(const Prepared& P, size_t i, uint64_t seed) {
+Ray make_ray(const Prepared& P, size_t i, size_t n_plain, uint64_t seed) {
   Rng rng(seed * 0x9e3779b97f4a7c15ull + i);
   Ray ray;
-  ray.vertex = (i % 2) == 1;
+  ray.near_vertex = i >= n_plain;
+  ray.vertex = !ray.near_vertex && (i % 2) == 1;
   Vec3d target;
   mpq_class tq[3];
   std::vector<int> faces;
-  if (ray.vertex) {
+  if (ray.vertex || ray.near_vertex) {
     const int v = static_cast<int>(rng.below(P.v.size()));
     target = P.v[v];
     faces = P.vert_faces[v];
+    if (ray.near_vertex) {
+      int k[3];
+      do {
+        for (int x = 0; x < 3; ++x) k[x] = static_cast<int>(rng.below(7)) - 3;
+      } while (k[0] == 0 && k[1] == 0 && k[2] == 0);
+      for (int x = 0; x < 3; ++x) target[x] = move_ulps(P.fmt, target[x], k[x]);
+    }
   } else {
     // Try random edges until one has a representable point p0 + s (p1 - p0), s = k / 2^j.
     bool found = false;
@@ -154,15 +170,23 @@ std::vector<int> candidates(const Prepared& P, const Ray& r) {
 }
 
 template <class T>
-int count_hits(const Prepared& P, const Ray& r, const std::vector<int>& cand, const WatertightOptions& opt) {
+int count_hits(const Prepared& P, const Ray& r, const std::vector<int>& cand, const WatertightOptions& opt,
+               size_t* slow) {
   const Vec3<T> a = vcast<T>(r.a), d = vcast<T>(r.d);
   const T tmin = ru::num::fp_cast<T>(0.0), tmax = ru::num::fp_cast<T>(1.5);
   int hits = 0;
   for (int t : cand) {
     const auto& tri = (*P.tris)[t];
     const Vec3<T> p0 = vcast<T>(P.v[tri[0]]), p1 = vcast<T>(P.v[tri[1]]), p2 = vcast<T>(P.v[tri[2]]);
-    const bool hit = opt.robust ? ray_tri_robust(a, d, p0, p1, p2, tmin, tmax, opt.tri).hit
-                                : ray_tri_mt(a, d, p0, p1, p2, tmin, tmax, opt.tri).hit;
+    bool hit;
+    if (opt.exact) {
+      const auto res = ray_tri_exact(a, d, p0, p1, p2, tmin, tmax, opt.exact_opt);
+      hit = res.hit;
+      *slow += res.path.slow();
+    } else {
+      hit = opt.robust ? ray_tri_robust(a, d, p0, p1, p2, tmin, tmax, opt.tri).hit
+                       : ray_tri_mt(a, d, p0, p1, p2, tmin, tmax, opt.tri).hit;
+    }
     hits += hit;
   }
   return hits;
@@ -207,48 +231,57 @@ WatertightResult run_watertight(const Mesh& mesh, const WatertightOptions& opt) 
   size_t total_cand = 0, done = 0;
   std::mutex mu;
   const size_t block = 128;
-  const size_t nblocks = (opt.rays + block - 1) / block;
+  const size_t nrays = opt.rays + opt.near_vertex_rays;
+  const size_t nblocks = (nrays + block - 1) / block;
   util::parallel_for(nblocks, opt.threads, [&](size_t b) {
     ru::num::SoftScope scope(opt.fmt);
     WatertightResult loc;
     size_t cand_sum = 0;
-    for (size_t i = b * block; i < std::min(opt.rays, (b + 1) * block); ++i) {
-      const Ray r = make_ray(P, i, opt.seed);
+    for (size_t i = b * block; i < std::min(nrays, (b + 1) * block); ++i) {
+      const Ray r = make_ray(P, i, opt.rays, opt.seed);
       const std::vector<int> cand = candidates(P, r);
       cand_sum += cand.size();
       const uint64_t ovf0 = ru::num::soft_stats().overflow;
-      const int hits = mode == 1   ? count_hits<float>(P, r, cand, opt)
-                       : mode == 2 ? count_hits<double>(P, r, cand, opt)
-                                   : count_hits<Soft>(P, r, cand, opt);
+      size_t slow = 0;
+      const int hits = mode == 1   ? count_hits<float>(P, r, cand, opt, &slow)
+                       : mode == 2 ? count_hits<double>(P, r, cand, opt, &slow)
+                                   : count_hits<Soft>(P, r, cand, opt, &slow);
       loc.overflow_rays += ru::num::soft_stats().overflow != ovf0;
       int exact_hits = 0;
       for (int t : cand) {
         const auto& tri = mesh.tris[t];
         exact_hits += exact_tri(r.a, r.d, P.v[tri[0]], P.v[tri[1]], P.v[tri[2]], 0.0, 1.5).hit;
       }
-      WatertightCounts& c = r.vertex ? loc.vertex : loc.edge;
+      const int crossings = oracle_crossings(r.a, r.d, P.v, mesh.tris, cand, 0.0, 1.5, opt.oracle_plant);
+      WatertightCounts& c = r.near_vertex ? loc.near_vertex : r.vertex ? loc.vertex : loc.edge;
       ++c.rays;
-      c.leaks += hits == 0;
-      c.double_hits += hits >= 2;
+      c.leaks += hits < crossings;
+      c.double_hits += hits > crossings;
+      c.oracle_not_one += crossings != 1;
+      if (opt.exact) c.tests += cand.size(), c.slow_tests += slow;
       loc.near_edge_rays += r.near_edge;
       loc.inexact_aim += r.inexact;
-      loc.exact_misses += exact_hits == 0;
+      loc.exact_misses += exact_hits == 0 && !r.near_vertex;  // a near-vertex target may lie off the surface
     }
     std::lock_guard<std::mutex> lock(mu);
-    for (auto [dst, src] : {std::pair{&res.edge, &loc.edge}, std::pair{&res.vertex, &loc.vertex}}) {
+    for (auto [dst, src] : {std::pair{&res.edge, &loc.edge}, std::pair{&res.vertex, &loc.vertex},
+                            std::pair{&res.near_vertex, &loc.near_vertex}}) {
       dst->rays += src->rays;
       dst->leaks += src->leaks;
       dst->double_hits += src->double_hits;
+      dst->oracle_not_one += src->oracle_not_one;
+      dst->tests += src->tests;
+      dst->slow_tests += src->slow_tests;
     }
     res.near_edge_rays += loc.near_edge_rays;
     res.inexact_aim += loc.inexact_aim;
     res.exact_misses += loc.exact_misses;
     res.overflow_rays += loc.overflow_rays;
     total_cand += cand_sum;
-    done += std::min(opt.rays, (b + 1) * block) - b * block;
-    if (opt.progress) opt.progress(done, opt.rays);
+    done += std::min(nrays, (b + 1) * block) - b * block;
+    if (opt.progress) opt.progress(done, nrays);
   });
-  res.candidates_per_ray = opt.rays ? static_cast<double>(total_cand) / static_cast<double>(opt.rays) : 0;
+  res.candidates_per_ray = nrays ? static_cast<double>(total_cand) / static_cast<double>(nrays) : 0;
   return res;
 }
 

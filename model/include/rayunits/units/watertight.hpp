@@ -14,8 +14,15 @@
 // so a + 1 * d is the target exactly. t_min = 0, t_max = 1.5.
 // Each ray is tested against every triangle whose bounding sphere (radius x 1.5) comes near
 // the segment [a, a + 1.5 d] (in double; the others are too far to be hit at any width).
-// leak = no triangle hit; double hit = two or more triangles hit. An exact rational test of
-// the same candidates confirms every ray really hits the surface (exact_misses must be 0).
+// near-vertex rays (near_vertex_rays of them, after the edge and vertex rays): the target is a
+// mesh vertex moved by -3..3 ulps of the format in each coordinate (not all 0), so the ray passes
+// within a few ulps of the vertex.
+// Every ray is also given to the exact crossing oracle (units/crossing_oracle.hpp: the
+// symbolically perturbed ray against the exact triangles, same candidates): leak = fewer
+// triangles hit than the oracle's crossings, double hit = more (on a convex mesh the oracle
+// counts 1, so this is "no hit" / "two or more"). An exact rational test of the same candidates
+// (closed triangles, no perturbation) confirms every edge and vertex ray really hits the surface
+// (exact_misses must be 0; near-vertex targets may lie off the surface and are not counted).
 #pragma once
 
 #include <cstdint>
@@ -24,15 +31,21 @@
 
 #include "rayunits/num/format.hpp"
 #include "rayunits/units/mesh.hpp"
+#include "rayunits/units/crossing_oracle.hpp"
 #include "rayunits/units/ray_tri.hpp"
+#include "rayunits/units/ray_tri_exact.hpp"
 
 namespace ru::units {
 
 struct WatertightOptions {
   ru::num::Format fmt;
   bool robust = true;  // false: Moller-Trumbore
+  bool exact = false;  // ray_tri_exact (the exactly-once unit; robust/tri are ignored)
   TriOptions tri;
+  ExactTriOptions exact_opt;                  // planted errors (tests only)
+  OraclePlant oracle_plant = OraclePlant::None;  // planted errors (tests only)
   size_t rays = 10000;  // half edge rays, half vertex rays
+  size_t near_vertex_rays = 0;  // in addition to `rays`
   uint64_t seed = 1;
   int threads = 2;
   std::function<void(size_t done, size_t total)> progress;
@@ -40,10 +53,12 @@ struct WatertightOptions {
 
 struct WatertightCounts {
   size_t rays = 0, leaks = 0, double_hits = 0;
+  size_t oracle_not_one = 0;           // rays the oracle crosses 0 or >= 2 times
+  size_t tests = 0, slow_tests = 0;    // ray_tri_exact: unit tests, and those the exact path decided
 };
 
 struct WatertightResult {
-  WatertightCounts edge, vertex;
+  WatertightCounts edge, vertex, near_vertex;
   size_t near_edge_rays = 0;   // edge rays whose target is only within rounding of the edge
   size_t inexact_aim = 0;      // rays whose d could not be made exact (target missed by rounding)
   size_t exact_misses = 0;     // rays the exact test says hit nothing (must be 0)
@@ -51,7 +66,12 @@ struct WatertightResult {
   double candidates_per_ray = 0;
   size_t triangles = 0, vertices = 0;
   WatertightCounts total() const {
-    return {edge.rays + vertex.rays, edge.leaks + vertex.leaks, edge.double_hits + vertex.double_hits};
+    WatertightCounts t;
+    for (const WatertightCounts* c : {&edge, &vertex, &near_vertex}) {
+      t.rays += c->rays, t.leaks += c->leaks, t.double_hits += c->double_hits;
+      t.oracle_not_one += c->oracle_not_one, t.tests += c->tests, t.slow_tests += c->slow_tests;
+    }
+    return t;
   }
 };
 

@@ -1,0 +1,261 @@
+// rayunits units: ray_tri_exact, the exactly-once watertight variant of Kensler's robust test.
+//
+// Same dataflow as ray_tri_robust (Fig. 3.6, lexicographic-min edge operands, Kensler §3.10):
+// t, beta, gamma, V, Va, V0..V2 are bit for bit those of ray_tri_robust (no tie-break). Only
+// the hit decision differs: it is EXACT for the symbolically perturbed ray
+//
+//     a(eps) = a + (eps, eps^2, eps^3),  eps -> 0+          (d unchanged)
+//
+// i.e. hit  <=>  the three perturbed edge signs agree  and  t_min < Va/V < t_max  (exact t of the
+// unperturbed ray, strict). The perturbation is a property of the RAY, the same for every
+// triangle, so the hit set is that of a generic ray: it passes through no vertex and meets no
+// edge line except those parallel to d (whose triangles contain d and are never hit), so on a
+// closed mesh the triangles reporting a hit are exactly the crossings of one line with the
+// surface. The triangle-edge quantity is, with e_k = p_{k+1} - p_{k+2} and m_k = lexmin of the
+// edge's end points (both neighbours use the same operands in the same order):
+//     S_k(eps) = ((a(eps) - m_k) x d) . e_k = S_k + (eps, eps^2, eps^3) . (d x e_k)
+// so sign S_k(eps) = sign of the first non-zero of S_k, (d x e_k).x, (d x e_k).y, (d x e_k).z
+// (simulation of simplicity); the neighbour has -e_k and gets the opposite sign, exactly.
+//
+// Filtered predicate (the fast path, what the pipeline computes every cycle):
+//   V_k (the unit's rounded volume) and its permanent P_k = the same expression with every
+//   operand replaced by its absolute value and every subtraction in the cross product and the
+//   dot product by an addition (same rounding, same order). Each of the six terms
+//   +-s_i d_j e_l of V_k passes through at most n = 7 roundings (a - m, e, product, cross
+//   subtraction, product, two additions), so, without underflow or overflow,
+//       |fl(V_k) - V_k| <= ((1+u)^7 - 1) sum|s_i d_j e_l| <= ((1+u)^7 - 1)/(1-u)^7 * fl(P_k)
+//   (fl(P_k) has at most 7 roundings per term too, all of positive terms, so
+//   fl(P_k) >= (1-u)^7 sum|s_i d_j e_l|), u = 2^-(M+1) for RNE, 2^-M for directed modes.
+//   The constant is rounded up to a power of two 2^K (K = -M+2 for RNE at M >= 6), so the test
+//       |fl(V_k)| > 2^K fl(P_k)           (an exponent-shifted comparison, exact)
+//   certifies sign(V_k) = sign(fl(V_k)). Underflow is excluded conservatively: any operation
+//   whose rounded result is subnormal, or zero although the exact result is not (a product of
+//   non-zero factors, a difference of unequal values), sends the edge to the exact path;
+//   overflow/NaN does too (fl(V_k), fl(P_k) must be finite). Edges are only sent to the exact
+//   path when the certified ones do not already decide a miss (one certified +, one certified -).
+//   The interval test t_min < t < t_max uses the unit's t = fl(Va/V) with a proven relative bound
+//   (V: n = 7, Va: n = 8 roundings per term, same permanent argument, plus the division):
+//       t = t_fp * (1+alpha)/((1+beta)(1+theta)), |alpha| <= rho_a, |beta| <= rho_V, |theta| <= u
+//   and goes to the exact path when [t_fp (1-r), t_fp (1+r)] straddles t_min or t_max.
+// Exact path (the slow side path): S_k, (d x e_k), Va and V in exact integer arithmetic (GMP in
+// the model). Bits needed (docs/UNITS.md): every value of eXmY is an integer multiple of
+// 2^(emin-M) of magnitude < 2^L, L = 2^E + M - 2; a - m and e are < 2^(L+1); each of the six
+// terms < 2^(3L+2); S_k < 2^(3L+5): 3L+6 bits two's complement (e5m10: 126, e6m12: 228,
+// e7m16: 432, e8m23: 837, e11m52: 6300); the tie terms (d x e_k) need 2L+4 bits.
+//
+// Non-finite operands (INF/NaN in a, d, p0..p2): miss (the exact decision is undefined).
+#pragma once
+
+#include <cstdint>
+
+#include "rayunits/num/fp.hpp"
+#include "rayunits/units/ray_tri.hpp"
+#include "rayunits/units/vec.hpp"
+
+namespace ru::units {
+
+// Planted errors, for the tests that must show their checkers fail (never used otherwise).
+enum class ExactPlant : uint8_t {
+  None = 0,
+  NoExactPath,      // trust the rounded V_k always (zero -> neither sign, plain Fig. 3.6)
+  VertexOrderTie,   // exact zeros broken by the edge's vertex order (lexmin -> lexmax), not the ray
+  ShrunkBound,      // filter bound 2^-24 times too small (certifies wrong signs)
+};
+
+struct ExactTriOptions {
+  ExactPlant plant = ExactPlant::None;
+};
+
+// Which path decided (statistics for the cost of the side path).
+struct ExactPathInfo {
+  uint8_t slow_edges = 0;      // edges whose sign came from the exact path (0..3)
+  bool slow_interval = false;  // the interval test came from the exact path
+  bool slow() const { return slow_edges != 0 || slow_interval; }
+};
+
+template <class T>
+struct TriExactResult : TriResult<T> {
+  ExactPathInfo path;
+};
+
+namespace exact_detail {
+
+// Exponent K with ((1+u)^n - 1)/(1-u)^n <= 2^K for the format (u from its rounding mode).
+int bound_exp(const ru::num::Format& f, int n);
+// |v| > 2^k * p exactly, for finite doubles p >= 0 (v any finite double).
+bool abs_greater_scaled(double v, double p, int k);
+// Exact sign of the perturbed edge quantity ((a(eps) - m) x d) . e, e = q1 - q2 (doubles: the
+// format values, exactly). plant VertexOrderTie: the zero case uses e oriented lexmin -> lexmax.
+int exact_edge_sign(const Vec3d& a, const Vec3d& d, const Vec3d& m, const Vec3d& q1, const Vec3d& q2,
+                    bool vertex_order_tie);
+// Exact strict interval test of t = Va / V, Va = ((p2-p0) x (p1-p2)) . (p2 - a),
+// V = ((p2-p0) x (p1-p2)) . d (V != 0 assumed; false if V == 0 or t_min/t_max NaN).
+bool exact_interval(const Vec3d& a, const Vec3d& d, const Vec3d& p0, const Vec3d& p1, const Vec3d& p2,
+                    double t_min, double t_max);
+// The certified-interval test: returns 1 (t in the interval), 0 (not), -1 (undecided).
+int fast_interval(double t_fp, double V, double PV, int kV, double Va, double Pa, int ka, double u,
+                  double minnorm, double t_min, double t_max);
+double unit_roundoff(const ru::num::Format& f);
+
+template <class T>
+bool fin(const T& x) {
+  const double v = ru::num::fp_to_double(x);
+  return std::isfinite(v);
+}
+
+// Tiny-result detection (conservative underflow flag): subnormal result, or zero result although
+// the exact one is not.
+template <class T>
+struct Checked {
+  bool tiny = false;
+  double minnorm;
+  explicit Checked(double mn) : minnorm(mn) {}
+  void look(double z, bool exact_zero) {
+    if (z == 0) {
+      if (!exact_zero) tiny = true;
+    } else if (std::fabs(z) < minnorm) {
+      tiny = true;
+    }
+  }
+  T mul(T x, T y) {
+    const T z = x * y;
+    const double xd = ru::num::fp_to_double(x), yd = ru::num::fp_to_double(y);
+    look(ru::num::fp_to_double(z), xd == 0 || yd == 0);
+    return z;
+  }
+  T sub(T x, T y) {
+    const T z = x - y;
+    look(ru::num::fp_to_double(z), ru::num::fp_to_double(x) == ru::num::fp_to_double(y));
+    return z;
+  }
+  T add(T x, T y) {
+    const T z = x + y;
+    look(ru::num::fp_to_double(z), ru::num::fp_to_double(x) == -ru::num::fp_to_double(y));
+    return z;
+  }
+};
+
+// dot(cross(u, w), z) with the order of vec.hpp, and its permanent
+// (|u.y||w.z| + |u.z||w.y|) |z.x| + ... (same order, additions).
+template <class T>
+void vol_perm(Checked<T>& c, const Vec3<T>& u, const Vec3<T>& w, const Vec3<T>& z, T& vol, T& perm) {
+  using ru::num::fp_abs;
+  const Vec3<T> cr{c.sub(c.mul(u.y, w.z), c.mul(u.z, w.y)), c.sub(c.mul(u.z, w.x), c.mul(u.x, w.z)),
+                   c.sub(c.mul(u.x, w.y), c.mul(u.y, w.x))};
+  vol = c.add(c.add(c.mul(cr.x, z.x), c.mul(cr.y, z.y)), c.mul(cr.z, z.z));
+  const Vec3<T> au{fp_abs(u.x), fp_abs(u.y), fp_abs(u.z)}, aw{fp_abs(w.x), fp_abs(w.y), fp_abs(w.z)},
+      az{fp_abs(z.x), fp_abs(z.y), fp_abs(z.z)};
+  const Vec3<T> pc{au.y * aw.z + au.z * aw.y, au.z * aw.x + au.x * aw.z, au.x * aw.y + au.y * aw.x};
+  perm = (pc.x * az.x + pc.y * az.y) + pc.z * az.z;
+}
+
+template <class T>
+Vec3<T> vsub_chk(Checked<T>& c, const Vec3<T>& u, const Vec3<T>& v) {
+  return {c.sub(u.x, v.x), c.sub(u.y, v.y), c.sub(u.z, v.z)};
+}
+
+template <class T>
+int sgn_fp(const T& x) {
+  const double v = ru::num::fp_to_double(x);
+  return v > 0 ? 1 : v < 0 ? -1 : 0;
+}
+
+}  // namespace exact_detail
+
+// The exactly-once unit. Outputs as ray_tri_robust (tie_break/eps options do not apply); hit is
+// the exact decision for the perturbed ray; r.path says which path decided.
+template <class T>
+TriExactResult<T> ray_tri_exact(const Vec3<T>& a, const Vec3<T>& d, const Vec3<T>& p0, const Vec3<T>& p1,
+                                const Vec3<T>& p2, T t_min, T t_max, const ExactTriOptions& opt = {}) {
+  using namespace ru::num;
+  using namespace exact_detail;
+  TriExactResult<T> r;
+  static_cast<TriResult<T>&>(r) = ray_tri_robust(a, d, p0, p1, p2, t_min, t_max);
+  r.hit = false;
+  const Format f = fp_format<T>();
+  const double minnorm = to_double(f, f.min_normal());
+  const double u = unit_roundoff(f);
+  const int shrink = opt.plant == ExactPlant::ShrunkBound ? 24 : 0;
+  const int k7 = bound_exp(f, 7) - shrink, k8 = bound_exp(f, 8) - shrink;
+
+  const Vec3d ad = vdouble(a), dd = vdouble(d), P[3] = {vdouble(p0), vdouble(p1), vdouble(p2)};
+  for (const Vec3d* v : {&ad, &dd, &P[0], &P[1], &P[2]})
+    for (int k = 0; k < 3; ++k)
+      if (!std::isfinite((*v)[k])) {
+        r.why = TriMiss::Sign;
+        return r;
+      }
+
+  // Edge volumes: the same operations as ray_tri_robust, with the tiny check and the permanent.
+  const Vec3<T>* pv[3] = {&p0, &p1, &p2};
+  int sign[3];
+  bool certain[3];
+  for (int k = 0; k < 3; ++k) {
+    const Vec3<T>& q1 = *pv[(k + 1) % 3];
+    const Vec3<T>& q2 = *pv[(k + 2) % 3];
+    const Vec3<T>& m = lex_first_is_min(q1, q2) ? q1 : q2;
+    Checked<T> c(minnorm);
+    const Vec3<T> e = vsub_chk(c, q1, q2);
+    const Vec3<T> s = vsub_chk(c, a, m);
+    T vol, perm;
+    vol_perm(c, s, d, e, vol, perm);
+    sign[k] = sgn_fp(vol);
+    const double vd = fp_to_double(vol), pd = fp_to_double(perm);
+    certain[k] = opt.plant == ExactPlant::NoExactPath ||
+                 (!c.tiny && std::isfinite(vd) && std::isfinite(pd) && abs_greater_scaled(vd, pd, k7));
+  }
+  auto decided_mixed = [&] {
+    bool pos = false, neg = false;
+    for (int k = 0; k < 3; ++k)
+      if (certain[k]) pos |= sign[k] > 0, neg |= sign[k] < 0;
+    return pos && neg;
+  };
+  if (!decided_mixed()) {
+    for (int k = 0; k < 3; ++k) {
+      if (certain[k]) continue;
+      const Vec3d& q1 = P[(k + 1) % 3];
+      const Vec3d& q2 = P[(k + 2) % 3];
+      const Vec3d& m = lex_first_is_min(q1, q2) ? q1 : q2;
+      sign[k] = exact_edge_sign(ad, dd, m, q1, q2, opt.plant == ExactPlant::VertexOrderTie);
+      certain[k] = true;
+      ++r.path.slow_edges;
+      if (decided_mixed()) break;
+    }
+  }
+  bool agree;
+  if (opt.plant == ExactPlant::NoExactPath) {  // plain Fig. 3.6 rule: zeros count as either sign
+    const bool any_neg = sign[0] < 0 || sign[1] < 0 || sign[2] < 0;
+    const bool any_pos = sign[0] > 0 || sign[1] > 0 || sign[2] > 0;
+    agree = !(any_neg && any_pos);
+  } else {
+    agree = (sign[0] > 0 && sign[1] > 0 && sign[2] > 0) || (sign[0] < 0 && sign[1] < 0 && sign[2] < 0);
+  }
+  if (!agree) {
+    r.why = TriMiss::Sign;
+    return r;
+  }
+  // Interval: V and Va recomputed with the same operations (bit-identical to r.V, r.Va).
+  Checked<T> c(minnorm);
+  const Vec3<T> e0 = vsub_chk(c, p1, p2), e1 = vsub_chk(c, p2, p0);
+  T V, PV, Va, Pa;
+  vol_perm(c, e1, e0, d, V, PV);
+  const bool tinyV = c.tiny;
+  const Vec3<T> f2 = vsub_chk(c, p2, a);
+  vol_perm(c, e1, e0, f2, Va, Pa);
+  int in = -1;
+  if (opt.plant == ExactPlant::NoExactPath) {
+    in = t_min < r.t && r.t < t_max;
+  } else if (!c.tiny && !tinyV) {
+    in = fast_interval(fp_to_double(r.t), fp_to_double(V), fp_to_double(PV), k7, fp_to_double(Va),
+                       fp_to_double(Pa), k8, u, minnorm, fp_to_double(t_min), fp_to_double(t_max));
+  }
+  if (in < 0) {
+    r.path.slow_interval = true;
+    in = exact_interval(ad, dd, P[0], P[1], P[2], fp_to_double(t_min), fp_to_double(t_max));
+  }
+  r.why = in ? TriMiss::None : TriMiss::Interval;
+  r.hit = in != 0;
+  return r;
+}
+
+}  // namespace ru::units

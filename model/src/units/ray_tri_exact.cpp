@@ -1,0 +1,111 @@
+// The exact (slow) path and the filter constants of ray_tri_exact (units/ray_tri_exact.hpp).
+#include "rayunits/units/ray_tri_exact.hpp"
+
+#include <gmpxx.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace ru::units::exact_detail {
+
+double unit_roundoff(const ru::num::Format& f) {
+  return std::ldexp(1.0, f.round == ru::num::Round::RNE ? -(f.frac_bits + 1) : -f.frac_bits);
+}
+
+int bound_exp(const ru::num::Format& f, int n) {
+  // c = ((1+u)^n - 1) / (1-u)^n, evaluated with rationals (exact), then the smallest K with c <= 2^K.
+  const mpq_class u(unit_roundoff(f));
+  mpq_class up = 1, dn = 1;
+  for (int i = 0; i < n; ++i) {
+    up *= 1 + u;
+    dn *= 1 - u;
+  }
+  const mpq_class c = (up - 1) / dn;
+  int k = -200;
+  mpq_class p;
+  for (;; ++k) {
+    mpz_class num = 1, den = 1;
+    if (k >= 0)
+      mpz_mul_2exp(num.get_mpz_t(), num.get_mpz_t(), static_cast<unsigned>(k));
+    else
+      mpz_mul_2exp(den.get_mpz_t(), den.get_mpz_t(), static_cast<unsigned>(-k));
+    p = mpq_class(num, den);
+    if (c <= p) return k;
+  }
+}
+
+bool abs_greater_scaled(double v, double p, int k) {
+  v = std::fabs(v);
+  if (v == 0) return false;
+  if (p == 0) return true;
+  int ev, ep;
+  const double mv = std::frexp(v, &ev), mp = std::frexp(p, &ep);
+  const long e1 = ev, e2 = static_cast<long>(ep) + k;
+  if (e1 != e2) return e1 > e2;
+  return mv > mp;
+}
+
+namespace {
+mpq_class q(double x) { return mpq_class(x); }  // exact (finite doubles only, checked by the caller)
+int sgnq(const mpq_class& x) { return sgn(x); }
+}  // namespace
+
+int exact_edge_sign(const Vec3d& a, const Vec3d& d, const Vec3d& m, const Vec3d& q1, const Vec3d& q2,
+                    bool vertex_order_tie) {
+  const mpq_class sx = q(a.x) - q(m.x), sy = q(a.y) - q(m.y), sz = q(a.z) - q(m.z);
+  const mpq_class dx = q(d.x), dy = q(d.y), dz = q(d.z);
+  mpq_class ex = q(q1.x) - q(q2.x), ey = q(q1.y) - q(q2.y), ez = q(q1.z) - q(q2.z);
+  // ((a - m) x d) . e
+  const mpq_class S = (sy * dz - sz * dy) * ex + (sz * dx - sx * dz) * ey + (sx * dy - sy * dx) * ez;
+  if (const int s = sgnq(S)) return s;
+  int flip = 1;
+  if (vertex_order_tie && !lex_first_is_min(q2, q1)) flip = -1;  // planted: orientation lexmin -> lexmax
+  // (eps, eps^2, eps^3) . (d x e)
+  const mpq_class gx = dy * ez - dz * ey, gy = dz * ex - dx * ez, gz = dx * ey - dy * ex;
+  if (const int s = sgnq(gx)) return flip * s;
+  if (const int s = sgnq(gy)) return flip * s;
+  return flip * sgnq(gz);
+}
+
+bool exact_interval(const Vec3d& a, const Vec3d& d, const Vec3d& p0, const Vec3d& p1, const Vec3d& p2,
+                    double t_min, double t_max) {
+  if (std::isnan(t_min) || std::isnan(t_max)) return false;
+  const mpq_class e1x = q(p2.x) - q(p0.x), e1y = q(p2.y) - q(p0.y), e1z = q(p2.z) - q(p0.z);
+  const mpq_class e0x = q(p1.x) - q(p2.x), e0y = q(p1.y) - q(p2.y), e0z = q(p1.z) - q(p2.z);
+  const mpq_class nx = e1y * e0z - e1z * e0y, ny = e1z * e0x - e1x * e0z, nz = e1x * e0y - e1y * e0x;
+  const mpq_class V = nx * q(d.x) + ny * q(d.y) + nz * q(d.z);
+  if (sgn(V) == 0) return false;
+  const mpq_class Va = nx * (q(p2.x) - q(a.x)) + ny * (q(p2.y) - q(a.y)) + nz * (q(p2.z) - q(a.z));
+  const mpq_class t = Va / V;
+  const bool above = std::isinf(t_min) ? t_min < 0 : t > q(t_min);
+  const bool below = std::isinf(t_max) ? t_max > 0 : t < q(t_max);
+  return above && below;
+}
+
+int fast_interval(double t_fp, double V, double PV, int kV, double Va, double Pa, int ka, double u,
+                  double minnorm, double t_min, double t_max) {
+  if (!std::isfinite(t_fp) || !std::isfinite(V) || !std::isfinite(PV) || !std::isfinite(Va) ||
+      !std::isfinite(Pa))
+    return -1;
+  if (std::isnan(t_min) || std::isnan(t_max)) return 0;
+  if (!abs_greater_scaled(V, PV, kV) || !abs_greater_scaled(Va, Pa, ka)) return -1;
+  // The division t_fp = fl(Va/V) has relative error <= u unless it underflowed.
+  if (std::fabs(t_fp) < minnorm) return -1;
+  // rho = 2^k P / |x| < 1 (certified above); evaluated in double with a margin for its roundings
+  // (ldexp is exact unless it leaves the normal double range: then undecided).
+  const double sV = std::ldexp(PV, kV), sA = std::ldexp(Pa, ka);
+  if ((PV != 0 && sV < 0x1p-1000) || (Pa != 0 && sA < 0x1p-1000)) return -1;
+  const double rhoV = sV / std::fabs(V) * (1 + 0x1p-40);
+  const double rhoA = sA / std::fabs(Va) * (1 + 0x1p-40);
+  if (!(rhoV < 0.5) || !(rhoA < 0.5)) return -1;
+  // t = t_fp (1+alpha) / ((1+beta)(1+theta)), |alpha| <= rhoA, |beta| <= rhoV, |theta| <= u:
+  // t / t_fp - 1 lies in [y - 1, x - 1].
+  const double x = (1 + rhoA) / ((1 - rhoV) * (1 - u)), y = (1 - rhoA) / ((1 + rhoV) * (1 + u));
+  const double r = std::max(x - 1, 1 - y) * (1 + 0x1p-30) + 0x1p-50;
+  const double lo = t_fp - r * std::fabs(t_fp), hi = t_fp + r * std::fabs(t_fp);
+  if (t_min < lo && hi < t_max) return 1;
+  if (hi < t_min || t_max < lo) return 0;
+  return -1;
+}
+
+}  // namespace ru::units::exact_detail
