@@ -1,6 +1,7 @@
 // rayunits study watertight: leaks and double hits of ray_tri_robust / ray_tri_mt for rays
 // aimed exactly at shared edges and vertices of a closed mesh (units/watertight.hpp).
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <string>
 
@@ -36,9 +37,16 @@ int run_watertight_cmd(int argc, char** argv) {
                  "symbolic perturbation of the ray; exactly once)")
       ->check(CLI::IsMember({"robust", "mt", "exact"}))
       ->capture_default_str();
-  app.add_option("--rays", a.rays, "number of rays (half edge, half vertex rays)")->capture_default_str();
+  app.add_option("--rays", a.rays, "number of rays (half edge, half vertex rays)")
+      ->capture_default_str()
+      ->check(CLI::Range(size_t{2}, size_t{1} << 40));
   app.add_option("--near-vertex", a.near_vertex,
                  "additional rays aimed within -3..3 ulps (per coordinate) of a random vertex")
+      ->capture_default_str()
+      ->check(CLI::Range(size_t{0}, size_t{1} << 40));
+  app.add_option("--scale", a.scale,
+                 "multiply the mesh's coordinates by this (before rounding into the format), e.g. 64 to bring "
+                 "a mesh normalised to |x| <= 0.5 out of e5m10's underflow range")
       ->capture_default_str();
   app.add_option("--seed", a.seed, "random seed")->capture_default_str();
   app.add_option("--threads", a.threads, "worker threads")->capture_default_str()->check(CLI::Range(1, 64));
@@ -81,13 +89,18 @@ WatertightRun run_watertight_study(const WatertightArgs& args, std::FILE* out, s
       }
       last = done;
     };
-  const Mesh mesh = scene.empty() ? load_mesh(mesh_file) : builtin_mesh(scene);
+  if (!(args.scale > 0) || !std::isfinite(args.scale))
+    throw UsageError("--scale must be a positive finite number, got " + std::to_string(args.scale));
+  Mesh mesh = scene.empty() ? load_mesh(mesh_file) : builtin_mesh(scene);
+  if (args.scale != 1.0)
+    for (Vec3d& v : mesh.verts) v = {v.x * args.scale, v.y * args.scale, v.z * args.scale};
   const WatertightResult r = run_watertight(mesh, opt);
   const auto tot = r.total();
 
-  std::fprintf(out, "scene %s: %zu vertices, %zu triangles, closed; format %s; ray_tri_%s%s; seed %llu\n",
+  std::fprintf(out, "scene %s: %zu vertices, %zu triangles, closed; format %s; ray_tri_%s%s; seed %llu%s\n",
               mesh.name.c_str(), r.vertices, r.triangles, opt.fmt.name().c_str(), tri.c_str(),
-              tie_break ? " (tie-break)" : "", static_cast<unsigned long long>(seed));
+              tie_break ? " (tie-break)" : "", static_cast<unsigned long long>(seed),
+              args.scale != 1.0 ? ("; coordinates x " + std::to_string(args.scale)).c_str() : "");
   std::fprintf(out, "rays: %zu through shared edges (%zu exactly on the edge, %zu within rounding of it), "
               "%zu through shared vertices, %zu within a few ulps of a vertex\n",
               r.edge.rays, r.edge.rays - r.near_edge_rays, r.near_edge_rays, r.vertex.rays, r.near_vertex.rays);
@@ -120,12 +133,13 @@ WatertightRun run_watertight_study(const WatertightArgs& args, std::FILE* out, s
     if (is_new)
       std::fprintf(f, "scene,format,tri,tie_break,seed,edge_rays,edge_leaks,edge_double_hits,vertex_rays,"
                       "vertex_leaks,vertex_double_hits,near_edge_rays,exact_misses,overflow_rays,"
-                      "near_vertex_rays,near_vertex_leaks,near_vertex_double_hits,oracle_not_one,tests,slow_tests\n");
-    std::fprintf(f, "%s,%s,%s,%d,%llu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu\n", mesh.name.c_str(),
+                      "near_vertex_rays,near_vertex_leaks,near_vertex_double_hits,oracle_not_one,tests,slow_tests,scale\n");
+    std::fprintf(f, "%s,%s,%s,%d,%llu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%zu,%g\n", mesh.name.c_str(),
                  opt.fmt.name().c_str(), tri.c_str(), tie_break ? 1 : 0, static_cast<unsigned long long>(seed),
                  r.edge.rays, r.edge.leaks, r.edge.double_hits, r.vertex.rays, r.vertex.leaks,
                  r.vertex.double_hits, r.near_edge_rays, r.exact_misses, r.overflow_rays, r.near_vertex.rays,
-                 r.near_vertex.leaks, r.near_vertex.double_hits, tot.oracle_not_one, tot.tests, tot.slow_tests);
+                 r.near_vertex.leaks, r.near_vertex.double_hits, tot.oracle_not_one, tot.tests, tot.slow_tests,
+                 args.scale);
     std::fclose(f);
   }
   std::fprintf(out, "leaks=%zu double_hits=%zu rays=%zu\n", tot.leaks, tot.double_hits, tot.rays);

@@ -53,6 +53,7 @@ BoxStudyRun run_box_study(const BoxStudyArgs& a, const std::string& command, std
 struct WatertightArgs {
   std::string scene, mesh_file, format = "e8m23", tri = "robust", csv;
   size_t rays = 10000, near_vertex = 0;
+  double scale = 1.0;
   uint64_t seed = 1;
   int threads = 2;
   bool tie_break = false, quiet = false;

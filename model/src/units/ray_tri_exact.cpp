@@ -88,21 +88,26 @@ int fast_interval(double t_fp, double V, double PV, int kV, double Va, double Pa
       !std::isfinite(Pa))
     return -1;
   if (std::isnan(t_min) || std::isnan(t_max)) return 0;
-  if (!abs_greater_scaled(V, PV, kV) || !abs_greater_scaled(Va, Pa, ka)) return -1;
-  // The division t_fp = fl(Va/V) has relative error <= u unless it underflowed.
-  if (std::fabs(t_fp) < minnorm) return -1;
-  // rho = 2^k P / |x| < 1 (certified above); evaluated in double with a margin for its roundings
-  // (ldexp is exact unless it leaves the normal double range: then undecided).
-  const double sV = std::ldexp(PV, kV), sA = std::ldexp(Pa, ka);
-  if ((PV != 0 && sV < 0x1p-1000) || (Pa != 0 && sA < 0x1p-1000)) return -1;
-  const double rhoV = sV / std::fabs(V) * (1 + 0x1p-40);
-  const double rhoA = sA / std::fabs(Va) * (1 + 0x1p-40);
-  if (!(rhoV < 0.5) || !(rhoA < 0.5)) return -1;
-  // t = t_fp (1+alpha) / ((1+beta)(1+theta)), |alpha| <= rhoA, |beta| <= rhoV, |theta| <= u:
-  // t / t_fp - 1 lies in [y - 1, x - 1].
-  const double x = (1 + rhoA) / ((1 - rhoV) * (1 - u)), y = (1 - rhoA) / ((1 + rhoV) * (1 + u));
-  const double r = std::max(x - 1, 1 - y) * (1 + 0x1p-30) + 0x1p-50;
-  const double lo = t_fp - r * std::fabs(t_fp), hi = t_fp + r * std::fabs(t_fp);
+  if (!abs_greater_scaled(V, PV, kV)) return -1;  // V's sign (and a relative bound) certified
+  // Absolute bounds BV >= |fl(V) - V|, Ba >= |fl(Va) - Va| (2^k P; ldexp is exact in the normal
+  // double range, and a result below it is replaced by the larger 2^-1000).
+  double BV = std::ldexp(PV, kV), Ba = std::ldexp(Pa, ka);
+  if (PV != 0 && BV < 0x1p-1000) BV = 0x1p-1000;
+  if (Pa != 0 && Ba < 0x1p-1000) Ba = 0x1p-1000;
+  const double aV = std::fabs(V), at = std::fabs(t_fp);
+  const double rhoV = BV / aV * (1 + 0x1p-40);
+  if (!(rhoV < 0.5)) return -1;
+  // With t_q = fl(Va)/fl(V) (exact quotient), t = Va/V:
+  //   |t - t_q| = |(Va - fl(Va)) fl(V) - fl(Va) (V - fl(V))| / (|V| |fl(V)|)
+  //            <= (Ba + |t_q| BV) / (|fl(V)| (1 - rhoV)),
+  //   t_fp = t_q (1 + theta), |theta| <= u, so |t_q| <= |t_fp| / (1-u), |t_fp - t_q| <= u |t_fp| / (1-u),
+  //   plus minnorm when the division result is below the normal range (its error is absolute).
+  // The double evaluation below rounds up by the (1 + 2^-30) factor and the 2^-50 |t_fp| term.
+  const double tq = at / (1 - u);
+  double err = (Ba + tq * BV) / (aV * (1 - rhoV)) + u * tq;
+  if (at < minnorm) err += minnorm;
+  err = err * (1 + 0x1p-30) + 0x1p-50 * at;
+  const double lo = t_fp - err, hi = t_fp + err;
   if (t_min < lo && hi < t_max) return 1;
   if (hi < t_min || t_max < lo) return 0;
   return -1;

@@ -33,10 +33,11 @@
 //   non-zero factors, a difference of unequal values), sends the edge to the exact path;
 //   overflow/NaN does too (fl(V_k), fl(P_k) must be finite). Edges are only sent to the exact
 //   path when the certified ones do not already decide a miss (one certified +, one certified -).
-//   The interval test t_min < t < t_max uses the unit's t = fl(Va/V) with a proven relative bound
-//   (V: n = 7, Va: n = 8 roundings per term, same permanent argument, plus the division):
-//       t = t_fp * (1+alpha)/((1+beta)(1+theta)), |alpha| <= rho_a, |beta| <= rho_V, |theta| <= u
-//   and goes to the exact path when [t_fp (1-r), t_fp (1+r)] straddles t_min or t_max.
+//   The interval test t_min < t < t_max uses the unit's t = fl(Va/V) with a proven absolute
+//   bound (V: n = 7, Va: n = 8 roundings per term, the same permanent argument, plus the division):
+//       |t - t_fp| <= (Ba + |t_q| BV) / (|fl(V)| (1 - BV/|fl(V)|)) + u |t_q|,  |t_q| <= |t_fp|/(1-u)
+//   (BV = 2^K7 fl(P_V), Ba = 2^K8 fl(P_a); exact_detail::fast_interval), and goes to the exact
+//   path when [t_fp - err, t_fp + err] straddles t_min or t_max, or V's sign is not certified.
 // Exact path (the slow side path): S_k, (d x e_k), Va and V in exact integer arithmetic (GMP in
 // the model). Bits needed (docs/UNITS.md): every value of eXmY is an integer multiple of
 // 2^(emin-M) of magnitude < 2^L, L = 2^E + M - 2; a - m and e are < 2^(L+1); each of the six
