@@ -29,7 +29,11 @@ module ru_fp_cmp #(
   parameter int unsigned Stages = 0,
   parameter int unsigned Subnormals = 1,
   parameter int unsigned Round = 0,
-  parameter logic [ru_pipe_pkg::MaxSeg:0] CutSel = ru_pipe_pkg::AutoCuts
+  parameter logic [ru_pipe_pkg::MaxSeg:0] CutSel = ru_pipe_pkg::AutoCuts,
+  // Weights of the automatic placement: '0 = the depth estimates of ru_fp_pkg::cmp_seg_w; else
+  // packed 8-bit weights per segment (`rayunits synth --placement delay` passes delays measured
+  // by STA in the cell library, synth/README.md).
+  parameter logic [ru_pipe_pkg::WW-1:0] SegW = '0
 ) (
   input  logic                clk_i,
   input  logic                rst_ni,
@@ -44,7 +48,9 @@ module ru_fp_cmp #(
 
   localparam int unsigned W = 1 + ExpW + FracW;
   localparam logic [ru_pipe_pkg::MaxSeg:0] Cuts = ru_pipe_pkg::sel_mask(
-      CutSel, ru_fp_pkg::cmp_seg_w(ExpW, FracW), ru_fp_pkg::cmp_nseg(), Stages);
+      CutSel,
+      ru_pipe_pkg::pick_w(SegW, ru_fp_pkg::cmp_seg_w(ExpW, FracW)),
+      ru_fp_pkg::cmp_nseg(), Stages);
   // Useful maximum of Stages (a register at every cut position) and the registers placed at the
   // output (Stages - popcount(Cuts); with automatic placement: those beyond MaxUsefulStages).
   localparam int unsigned MaxUsefulStages = ru_pipe_pkg::max_useful(ru_fp_pkg::cmp_nseg());

@@ -30,7 +30,11 @@ module ru_fp_div #(
   parameter int unsigned Stages = 0,
   parameter int unsigned Subnormals = 1,
   parameter int unsigned Round = 0,
-  parameter logic [ru_pipe_pkg::MaxSeg:0] CutSel = ru_pipe_pkg::AutoCuts
+  parameter logic [ru_pipe_pkg::MaxSeg:0] CutSel = ru_pipe_pkg::AutoCuts,
+  // Weights of the automatic placement: '0 = the depth estimates of ru_fp_pkg::div_seg_w; else
+  // packed 8-bit weights per segment (`rayunits synth --placement delay` passes delays measured
+  // by STA in the cell library, synth/README.md).
+  parameter logic [ru_pipe_pkg::WW-1:0] SegW = '0
 ) (
   input  logic                clk_i,
   input  logic                rst_ni,
@@ -48,8 +52,9 @@ module ru_fp_div #(
   localparam int unsigned NSteps = FracW + 3; // quotient bits
   localparam int unsigned ExpIW = ru_fp_pkg::exp_iw(ExpW, FracW);
   localparam logic [ru_pipe_pkg::MaxSeg:0] Cuts = ru_pipe_pkg::sel_mask(
-      CutSel, ru_fp_pkg::div_seg_w(ExpW, FracW, Subnormals), ru_fp_pkg::div_nseg(FracW),
-      Stages);
+      CutSel,
+      ru_pipe_pkg::pick_w(SegW, ru_fp_pkg::div_seg_w(ExpW, FracW, Subnormals)),
+      ru_fp_pkg::div_nseg(FracW), Stages);
   // Useful maximum of Stages (a register at every cut position) and the registers placed at the
   // output (Stages - popcount(Cuts); with automatic placement: those beyond MaxUsefulStages).
   localparam int unsigned MaxUsefulStages = ru_pipe_pkg::max_useful(ru_fp_pkg::div_nseg(FracW));

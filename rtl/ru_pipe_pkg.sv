@@ -167,6 +167,13 @@ package ru_pipe_pkg;
     sel_mask = ((cut_sel & AutoCuts) != '0) ? cut_mask(w, nseg, stages) : cut_sel;
   endfunction
 
+  // Segment weights of a unit's automatic placement: its SegW parameter if set (packed SegWW-bit
+  // weights, e.g. delays measured in a cell library: `rayunits synth --placement delay`), else the
+  // unit's own depth estimates.
+  function automatic logic [WW-1:0] pick_w(input logic [WW-1:0] seg_w, input logic [WW-1:0] depth_w);
+    pick_w = (seg_w != '0) ? seg_w : depth_w;
+  endfunction
+
   // Useful maximum of Stages of a chain of nseg segments: one register per cut position.
   function automatic int unsigned max_useful(input int unsigned nseg);
     max_useful = (nseg > 0) ? nseg - 1 : 0;

@@ -50,7 +50,7 @@ int run_registry(int argc, char** argv) {
     for (const UnitSpec* u : sel) {
       std::vector<UnitConfig> cfgs;
       if (u->uses_format) {
-        for (const auto& f : fmts) cfgs.push_back(UnitConfig{f, 0, {}});
+        for (const auto& f : fmts) cfgs.push_back(UnitConfig{f, 0, {}, {}});
       } else {
         cfgs.push_back(UnitConfig{});
       }

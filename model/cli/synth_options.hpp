@@ -26,6 +26,9 @@ inline const char* const kFlowOptionsHelp =
     "                      mapping (abc -D) and one STA each (default: no target)\n"
     "  --sta PATH          OpenSTA binary (default: sta on PATH)\n"
     "  --netlist FILE      cell flow: write the mapped unit module (of the first --clock) to FILE\n"
+    "  --placement depth|delay  register placement: the RTL's depth estimates (default) or, in a\n"
+    "                      cell flow, the delays STA measures with every cut registered\n"
+    "  --stage-periods     cell flow: report the period every pipeline stage needs (OpenSTA)\n"
     "  --fpga              also place and route on iCE40 with nextpnr-ice40 (Fmax; slow)\n"
     "  --device hx8k|up5k  iCE40 device (default hx8k)\n"
     "  --no-ice40          skip synth_ice40 LUT counts\n"
@@ -40,7 +43,7 @@ inline const char* const kFlowOptionsHelp =
 
 // Values checked after parsing (with the messages above), as typed.
 struct FlowArgs {
-  std::string device, timeout, flow, clock;
+  std::string device, timeout, flow, clock, placement;
 };
 
 // Sets up `app` the way these three commands parse: the given help text (instead of CLI11's
@@ -75,6 +78,7 @@ inline void add_flow_options(CLI::App& app, synth::FlowOptions& o, FlowArgs& a) 
   app.add_option("--clock", a.clock, "target clocks of the cell flow");
   app.add_option("--sta", o.sta, "OpenSTA binary");
   app.add_option("--netlist", o.netlist_out, "write the mapped netlist");
+  app.add_option("--placement", a.placement, "register placement: depth or delay");
   auto flag = [&app](const char* name, std::function<void()> f, const char* what) {
     app.add_flag_callback(name, std::move(f), what)->trigger_on_parse();
   };
@@ -84,6 +88,7 @@ inline void add_flow_options(CLI::App& app, synth::FlowOptions& o, FlowArgs& a) 
   flag("--generic-only", [&o] { o.ice40 = o.pnr = o.xilinx = false; }, "skip both FPGA flows");
   flag("--no-share", [&o] { o.share = false; }, "synth -noshare");
   flag("--keep", [&o] { o.keep_temp = true; }, "keep the temp directory");
+  flag("--stage-periods", [&o] { o.stage_periods = true; }, "report every pipeline stage's period");
 }
 
 inline void check_flow_options(const CLI::App& app, synth::FlowOptions& o, const FlowArgs& a) {
@@ -100,6 +105,11 @@ inline void check_flow_options(const CLI::App& app, synth::FlowOptions& o, const
   if (app.count("--netlist") && !synth::is_cell_flow(o.flow) && !app.count("--clock"))
     throw UsageError("--netlist needs a cell-library flow (--flow osu018, osu035 or osu050)");
   if (!o.netlist_out.empty()) o.netlist_out = std::filesystem::absolute(o.netlist_out).string();
+  if (app.count("--placement")) {
+    if (a.placement != "depth" && a.placement != "delay")
+      throw UsageError("--placement expects depth or delay, got '" + a.placement + "'");
+    o.placement = a.placement;
+  }
   if (synth::is_cell_flow(o.flow) || app.count("--clock"))
     for (const char* f : {"--fpga", "--device"})
       if (app.count(f))
@@ -111,6 +121,9 @@ inline void check_flow_options(const CLI::App& app, synth::FlowOptions& o, const
     if (!synth::is_cell_flow(o.flow))
       throw UsageError("--clock needs a cell-library flow (--flow osu018, osu035 or osu050), not --flow generic");
   }
+  for (const char* f : {"--placement", "--stage-periods"})
+    if (app.count(f) && !synth::is_cell_flow(o.flow) && (std::string(f) == "--stage-periods" || o.placement != "depth"))
+      throw UsageError(std::string(f) + " needs a cell-library flow (--flow osu018, osu035 or osu050)");
 }
 
 // Unit configuration options: --format eXmY[-ftz], --stages N, --round MODE, --ftz,

@@ -42,24 +42,39 @@ FAST_PS = 200
 RELAXED_PS = 1000000
 CURVE_FRACTIONS = (0.25, 0.5, 0.75)
 
-# Maximum useful Stages (rayunits registry; rayunits synth U --format F --stages 999 names it).
-MAX_STAGES = {
-    "fp_add": {"e5m10": 5, "e7m16": 5, "e8m23": 5},
-    "fp_cmp": {"e5m10": 2, "e7m16": 2, "e8m23": 2},
-    "fp_mul": {"e5m10": 9, "e7m16": 10, "e8m23": 11},
-    "fp_div": {"e5m10": 15, "e7m16": 21, "e8m23": 28},
-    "fp_dot3": {"e5m10": 21, "e7m16": 22, "e8m23": 23},
-    "ray_box": {"e7m16": 25, "e8m23": 26},
-    "ray_tri_robust": {"e7m16": 70, "e8m23": 79},
-    "ray_tri_mt": {"e7m16": 87, "e8m23": 97},
-}
+# Maximum useful Stages of (unit, format), asked from the binary (the registry, checked against the
+# RTL by ctest Registry.MaxUsefulStagesMatchRtl): `rayunits synth U --format F --stages 1000`
+# fails with "... supports --stages 0..N". Filled by max_stages().
+RAYUNITS = None
+_MAX_STAGES = {}
+
+
+def max_stages(unit, fmt):
+    key = (unit, fmt)
+    if key not in _MAX_STAGES:
+        cmd = [RAYUNITS, "synth", unit] + (["--format", fmt] if fmt else []) + ["--stages", "1000", "--generic-only"]
+        p = subprocess.run(cmd, capture_output=True, text=True)
+        m = re.search(r"supports --stages (\d+)\.\.(\d+)", p.stderr)
+        if not m:
+            sys.exit(f"run.py: cannot read the maximum Stages of {unit} {fmt or ''} from {RAYUNITS}: {p.stderr.strip()}")
+        _MAX_STAGES[key] = int(m.group(2))
+    return _MAX_STAGES[key]
+
 FP_UNITS = ["fp_add", "fp_mul", "fp_div", "fp_cmp", "fp_dot3"]
 FORMATS = ["e5m10", "e7m16", "e8m23"]
 # Clocks (ps) of the matched-clock comparison (noise vs fp_add + fp_mul vs fp_dot3, e8m23).
 # (fp_mul e8m23 reaches 5.55 ns at best, so 5 ns cannot be matched; noise reaches 5.9 ns at Stages 5.)
 MATCH_CLOCKS = [6500, 9000]
 MATCH_MARGIN_PS = 500
-MATCH_UNITS = [("noise", None, 7), ("fp_add", "e8m23", 5), ("fp_mul", "e8m23", 11), ("fp_dot3", "e8m23", 23)]
+MATCH_UNITS = [("noise", None), ("fp_add", "e8m23"), ("fp_mul", "e8m23"), ("fp_dot3", "e8m23")]
+# Register placement by depth estimates vs by measured delays (synth --placement delay), at equal
+# Stages, fastest mapping: the units with their own placement and these Stages (below the maximum).
+PLACE_UNITS = ["fp_add", "fp_mul", "fp_div", "fp_cmp"]
+
+
+def place_stage_list(unit, fmt):
+    m = max_stages(unit, fmt)
+    return sorted(s for s in {1, 2, 3, 4, m // 2} if 0 < s < m)
 
 
 def pname(unit, fmt, stages):
@@ -67,7 +82,7 @@ def pname(unit, fmt, stages):
 
 
 def fp_stage_list(unit, fmt):
-    m = MAX_STAGES[unit][fmt]
+    m = max_stages(unit, fmt)
     return sorted({0, m // 2, m})
 
 
@@ -101,25 +116,31 @@ def make_runs():
         runs.append(dict(unit=unit, fmt=fmt, stages=s, timeout=timeout_for(unit, fmt), point=p, kind="generic",
                          name=p + ".generic"))
 
-    for u in FP_UNITS:
-        for f in FORMATS:
-            for s in fp_stage_list(u, f):
-                ends(u, f, s)
-    for s in range(1, 8):
-        ends("noise", None, s)
+    def placement(unit, fmt, s):
+        p = pname(unit, fmt, s)
+        for how in ("depth", "delay"):
+            runs.append(dict(unit=unit, fmt=fmt, stages=s, timeout=timeout_for(unit, fmt), point=p, kind="ends",
+                             name=f"{p}.place_{how}", clocks=[FAST_PS],
+                             extra=["--placement", how] if how == "delay" else ["--stage-periods"]))
+
+    def each_point(add):  # the FP units at their Stages list, then noise Stages 1..max
+        for u in FP_UNITS:
+            for f in FORMATS:
+                for s in fp_stage_list(u, f):
+                    add(u, f, s)
+        for s in range(1, max_stages("noise", None) + 1):
+            add("noise", None, s)
+
+    each_point(ends)
     for clk in MATCH_CLOCKS:
-        for u, f, smax in MATCH_UNITS:
-            st = range(1, 8) if u == "noise" else fp_stage_list(u, f)
+        for u, f in MATCH_UNITS:
+            smax = max_stages(u, f)
+            st = range(1, smax + 1) if u == "noise" else fp_stage_list(u, f)
             runs.append(dict(unit=u, fmt=f, stages=None, smax=smax, clock=clk, kind="match",
                              timeout=timeout_for(u, f), point=None,
                              needs=[pname(u, f, s) + ".ends" for s in st],
                              name=f"match_{u}{'_' + f if f else ''}_{clk}ps"))
-    for u in FP_UNITS:
-        for f in FORMATS:
-            for s in fp_stage_list(u, f):
-                generic(u, f, s)
-    for s in range(1, 8):
-        generic("noise", None, s)
+    each_point(generic)
     # The ray units next (at most one ray-triangle run at a time: the other worker does the curves).
     ends("ray_box", "e8m23", 0)
     ends("ray_box", "e8m23", 7)
@@ -134,12 +155,11 @@ def make_runs():
     ends("ray_tri_robust", "e7m16", 0, split=True)
     # every relaxed (area) end of the ray-triangle units before any fast end: the area ratio first
     runs[tri:] = sorted(runs[tri:], key=lambda r: 0 if r["name"].endswith(".relaxed") else 1)
-    for u in FP_UNITS:
+    each_point(curve)
+    for u in PLACE_UNITS:
         for f in FORMATS:
-            for s in fp_stage_list(u, f):
-                curve(u, f, s)
-    for s in range(1, 8):
-        curve("noise", None, s)
+            for s in place_stage_list(u, f):
+                placement(u, f, s)
     # Stages 0 of the noise unit: Yosys's elaboration of ru_noise (hierarchy, AST derive) ran 23 min
     # without finishing here, where Stages 1..7 take about a minute: last, with a long time limit.
     ends("noise", None, 0)
@@ -173,6 +193,7 @@ def synth_cmd(rayunits, run, stages, clocks, json_path, generic=False):
         cmd += ["--flow", "osu018"]
         if clocks:
             cmd += ["--clock", ",".join(f"{int(round(c))}ps" for c in clocks)]
+    cmd += run.get("extra", [])
     cmd += ["--timeout", str(run["timeout"]), "--json", json_path]
     return cmd
 
@@ -436,6 +457,8 @@ def main():
     ap.add_argument("--built-from", default="", help="recorded in every row (which sources the binary was built from)")
     args = ap.parse_args()
     args.jobs = max(1, min(args.jobs, 2))
+    global RAYUNITS
+    RAYUNITS = args.rayunits
     return Driver(args).main()
 
 

@@ -58,7 +58,9 @@ def cell_rows(rows):
     """Rows of the targeted cell flow (ends, curves, match tries), by (unit, format, stages)."""
     out = {}
     for r in rows:
-        if r.get("flow") == "osu018" and r.get("target_clock_ps") and "period_ps" in r:
+        # registers placed by measured delays: only in the placement table
+        if r.get("flow") == "osu018" and r.get("target_clock_ps") and "period_ps" in r and \
+                r.get("placement", "depth") == "depth":
             out.setdefault(key(r), []).append(r)
     for k in out:
         out[k].sort(key=lambda r: (r["period_ps"], r["area_um2"]))
@@ -124,6 +126,40 @@ def fp_table(cr, gr, units, formats, title_cmd):
                     f"{fmt_int(a['area_um2'])} ({fmt_int(a['area_comb_um2'])} + {fmt_int(a['area_seq_um2'])}) | "
                     f"{fmt_int(b['area_um2'])} | {ns(b['period_ps'])} | {seg['segment']} of {seg['segments']} | "
                     f"{fmt_int(g['area_nand2']) if g else '—'} |{note_marks(rs)}")
+    return lines
+
+
+def placement_table(rows):
+    """Depth-based vs delay-based register placement at equal Stages (fastest mappings)."""
+    pts = {}
+    for r in rows:
+        for how in ("depth", "delay"):
+            if r.get("point", "").endswith(".place_" + how) and "period_ps" in r:
+                pts.setdefault(key(r), {})[how] = r
+    lines = ["| unit | format | Stages | depth: worst stage ns | stage periods ns | delay: worst stage ns | "
+             "stage periods ns | delay / depth period | area um2 depth → delay |",
+             "|---|---|---:|---:|---|---:|---|---:|---|"]
+    ratios = []
+    order = {u: i for i, u in enumerate(["fp_add", "fp_mul", "fp_div", "fp_cmp"])}
+    fmts = {f: i for i, f in enumerate(["e5m10", "e7m16", "e8m23"])}
+    for k in sorted(pts, key=lambda k: (order.get(k[0], 9), fmts.get(k[1], 9), k[2])):
+        p = pts[k]
+        if "depth" not in p or "delay" not in p:
+            continue
+        a, b = p["depth"], p["delay"]
+        st = lambda r: " / ".join(f"{x / 1000:.2f}" for x in (r.get("stage_periods_ps") or []))
+        ratio = b["period_ps"] / a["period_ps"]
+        ratios.append(ratio)
+        lines.append(f"| {k[0]} | {k[1]} | {k[2]} | {ns(a['period_ps'])} | {st(a)} | {ns(b['period_ps'])} | {st(b)} | "
+                     f"{ratio:.3f} | {fmt_int(a['area_um2'])} → {fmt_int(b['area_um2'])} |")
+    if ratios:
+        s = sorted(ratios)
+        med = s[len(s) // 2] if len(s) % 2 else (s[len(s) // 2 - 1] + s[len(s) // 2]) / 2
+        better = sum(1 for x in ratios if x < 0.99)
+        worse = sum(1 for x in ratios if x > 1.01)
+        lines += ["", f"{len(ratios)} configurations: delay-based placement faster by more than 1 % in {better}, "
+                  f"slower by more than 1 % in {worse}; median period ratio {med:.3f}, best {s[0]:.3f}, "
+                  f"worst {s[-1]:.3f}."]
     return lines
 
 
@@ -380,6 +416,13 @@ def main():
            "assumes the reachable period falls with Stages). Area = the smaller of the two mappings that meets T."] + mt
     rl, ratio = ray_table(cr)
     md += ["", "## Ray units", ""] + rl + ["", "Robust / Möller–Trumbore area:"] + ratio
+    md += ["", "## Register placement: depth estimates vs measured delays", "",
+           "Each configuration mapped as fast as ABC can (200 ps target) twice: with the RTL's own depth "
+           "estimates (`rayunits synth U --format F --stages S --flow osu018 --clock 200ps --stage-periods`) and "
+           "with the registers placed by delays measured in osu018 (`... --placement delay`: the unit with every "
+           "cut registered is mapped and timed first, each segment's logic delay becomes its weight in the same "
+           "RTL placement function, ru_pipe_pkg::cut_mask). Stage periods: OpenSTA's period of each pipeline "
+           "stage (its worst register), stage 1 first; the worst is the unit's clock.", ""] + placement_table(rows)
     md += ["", "## Every mapping (area-delay curves)", "", "![area vs achieved period](area_delay.png)", ""] + curve_table(cr)
     tl, total = time_table(rows)
     md += ["", "## Speed of the flow (benchmark: 2 cores, two runs at once under `nice`)", "",

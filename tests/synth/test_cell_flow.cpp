@@ -143,6 +143,29 @@ TEST(CellSta, PlantedSlowerInverterIsSeen) {
   EXPECT_NEAR(r.path.logic_ps, 450, 0.5);
 }
 
+// Two stages by hand: r0 (input register, level 0) -> 3 inverters -> r1 (level 1) -> 1 inverter
+// -> r2 (level 2). Stage periods: 0.2 + 0.3 + 0.05 = 0.55 ns and 0.2 + 0.1 + 0.05 = 0.35 ns; r0's
+// own D comes from the port (input delay 0): 0.05 ns of setup.
+TEST(CellSta, LevelScanByHand) {
+  if (!have_sta()) GTEST_SKIP() << "sta (opensta) not installed";
+  Tiny t;
+  write_file_atomic(t.netlist,
+                    "module ru_sta_harness (clk_i, a_i, y_o);\n  input clk_i;\n  input a_i;\n  output y_o;\n"
+                    "  wire n0, n1, n2, n3, n4, n5;\n"
+                    "  DFFPOSX1 r0 (.CLK(clk_i), .D(a_i), .Q(n0));\n"
+                    "  INVX1 i0 (.A(n0), .Y(n1));\n  INVX1 i1 (.A(n1), .Y(n2));\n  INVX1 i2 (.A(n2), .Y(n3));\n"
+                    "  DFFPOSX1 r1 (.CLK(clk_i), .D(n3), .Q(n4));\n"
+                    "  INVX1 i3 (.A(n4), .Y(n5));\n"
+                    "  DFFPOSX1 r2 (.CLK(clk_i), .D(n5), .Q(y_o));\nendmodule\n");
+  const StaResult r = run_sta(t.lib, "sta", t.netlist, "ru_sta_harness", 1000, 1, t.dir.path(), "sta", 60, true);
+  ASSERT_EQ(r.level_ps.size(), 3u) << r.report;
+  EXPECT_NEAR(r.level_ps.at(0), 50, 0.5);
+  EXPECT_NEAR(r.level_ps.at(1), 550, 0.5);
+  EXPECT_NEAR(r.level_ps.at(2), 350, 0.5);
+  // Without the scan: no levels.
+  EXPECT_TRUE(run_sta(t.lib, "sta", t.netlist, "ru_sta_harness", 1000, 1, t.dir.path(), "sta2", 60).level_ps.empty());
+}
+
 TEST(CellSta, Osu018Fo4IsAnInverterDelay) {
   if (!have_sta() || !have_osu018()) GTEST_SKIP() << "sta or osu018 not installed";
   const double fo4 = measure_fo4_ps(cell_library("osu018"), "sta");
@@ -182,6 +205,72 @@ TEST(CellFlow, SmallUnitRowsAreConsistent) {
   EXPECT_FALSE(rows[0]["met"].get<bool>());
   EXPECT_GT(rows[1]["slack_ps"].get<double>(), 0);
   EXPECT_TRUE(rows[1]["met"].get<bool>());
+}
+
+// Register placement by measured delays: the characterization has one delay per segment, the
+// weights are those delays scaled into 1..255, the stage periods of the placed unit are
+// consistent with the critical path of report_checks (two independent OpenSTA queries).
+TEST(CellFlow, DelayPlacementRows) {
+  if (!have_sta() || !have_osu018()) GTEST_SKIP() << "sta or osu018 not installed";
+  const UnitSpec& u = find_unit("fp_add");
+  UnitConfig c;
+  c.fmt = ru::num::Format::parse("e5m10");
+  c.stages = 2;
+  FlowOptions o;
+  o.flow = "osu018";
+  o.clocks_ps = {200};
+  o.placement = "delay";
+  const SynthResult r = run_synth(u, c, o);
+  const json j = to_json(r);
+  SCOPED_TRACE(j.dump());
+  const size_t nseg = static_cast<size_t>(u.max_stages(c)) + 1;
+  EXPECT_EQ(j["placement"], "delay");
+  EXPECT_EQ(j["top"], "ru_fp_add_e5m10_s2_dly");
+  ASSERT_EQ(j["segment_delays_ps"].size(), nseg);
+  ASSERT_EQ(j["seg_weights"].size(), nseg);
+  int wmax = 0;
+  for (const json& w : j["seg_weights"]) {
+    EXPECT_GE(w.get<int>(), 1);
+    EXPECT_LE(w.get<int>(), 255);
+    wmax = std::max(wmax, w.get<int>());
+  }
+  EXPECT_GE(wmax, 128);  // the largest delay uses the weights' range
+  ASSERT_EQ(j["stage_periods_ps"].size(), 3u);
+  double worst = 0;
+  for (const json& p : j["stage_periods_ps"]) worst = std::max(worst, p.get<double>());
+  EXPECT_NEAR(worst, j["period_ps"].get<double>(), 0.2);
+  EXPECT_EQ(j["stage_periods_ps"][j["critical_path"]["segment"].get<int>() - 1].get<double>(), worst);
+  // Depth placement: no weights, stage periods only when asked for.
+  o.placement = "depth";
+  const json d = to_json(run_synth(u, c, o));
+  EXPECT_EQ(d["placement"], "depth");
+  EXPECT_TRUE(d["seg_weights"].is_null());
+  EXPECT_TRUE(d["stage_periods_ps"].is_null());
+}
+
+// The weights reach the RTL's placement: a front-heavy and a back-heavy weighting put Stages 1's
+// one register at opposite ends of fp_add (after segment 0 / before the last), which register
+// different signals (generic flow, no timing involved). Equal weights of the wrong count: error.
+TEST(CellFlow, SegWeightsMoveTheRegisters) {
+  const UnitSpec& u = find_unit("fp_add");
+  UnitConfig c;
+  c.fmt = ru::num::Format::parse("e5m10");
+  c.stages = 1;
+  FlowOptions o;
+  o.ice40 = o.xilinx = false;
+  const size_t nseg = static_cast<size_t>(u.max_stages(c)) + 1;
+  c.seg_weights.assign(nseg, 1);
+  c.seg_weights.front() = 250;
+  const SynthResult front = run_synth(u, c, o);
+  c.seg_weights.assign(nseg, 1);
+  c.seg_weights.back() = 250;
+  const SynthResult back = run_synth(u, c, o);
+  EXPECT_NE(front.generic.reg_bits, back.generic.reg_bits);
+  EXPECT_NE(wrapper_verilog(u, c).find(".SegW(48'hfa0101010101)"), std::string::npos) << wrapper_verilog(u, c);
+  c.seg_weights.assign(nseg - 1, 1);
+  EXPECT_THROW(run_synth(u, c, o), SynthError);
+  c.seg_weights.assign(nseg, 0);
+  EXPECT_THROW(wrapper_verilog(u, c), SynthError);
 }
 
 TEST(CellFlow, ClockValues) {
@@ -234,6 +323,15 @@ TEST(CellFlowCli, ErrorLines) {
                "--device applies to the generic flow, not to a cell-library flow (--flow osu018)");
   expect_error("synth fp_add --format e5m10 --stages 1 --netlist x.v",
                "--netlist needs a cell-library flow (--flow osu018, osu035 or osu050)");
+  expect_error("synth fp_add --format e5m10 --stages 1 --flow osu018 --placement fast",
+               "--placement expects depth or delay, got 'fast'");
+  expect_error("synth fp_add --format e5m10 --stages 1 --placement delay",
+               "--placement needs a cell-library flow (--flow osu018, osu035 or osu050)");
+  expect_error("synth fp_add --format e5m10 --stages 1 --stage-periods",
+               "--stage-periods needs a cell-library flow (--flow osu018, osu035 or osu050)");
+  expect_error("synth fp_dot3 --format e5m10 --stages 3 --flow osu018 --placement delay",
+               "--placement delay: fp_dot3 places its registers through its sub-units' chain (units with their own "
+               "placement: fp_add, fp_mul, fp_div, fp_cmp)");
   TempDir empty("ru-test-nolib-");
   expect_error("synth fp_add --format e5m10 --stages 1 --flow osu018",
                "cell library osu018 not found: no " + empty.path() +

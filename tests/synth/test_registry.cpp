@@ -34,7 +34,7 @@ std::string rtl_dir() { return default_rtl_dir(); }
 std::vector<UnitConfig> configs_of(const UnitSpec& u) {
   std::vector<UnitConfig> v;
   if (u.uses_format) {
-    for (const char* f : {"e5m10", "e7m16", "e8m23"}) v.push_back(UnitConfig{Format::parse(f), 0, {}});
+    for (const char* f : {"e5m10", "e7m16", "e8m23"}) v.push_back(UnitConfig{Format::parse(f), 0, {}, {}});
   } else {
     v.push_back(UnitConfig{});
     UnitConfig c;
@@ -78,7 +78,7 @@ TEST(Registry, OffByOneRegistryIsCaught) {
       UnitSpec u = find_unit(name);
       u.max_stages_expr = "(" + u.max_stages_expr + ")" + delta;
       std::vector<UnitConfig> cfgs = {configs_of(u).front()};
-      if (u.uses_format) cfgs = {UnitConfig{Format::parse("e8m23"), 0, {}}};
+      if (u.uses_format) cfgs = {UnitConfig{Format::parse("e8m23"), 0, {}, {}}};
       const auto bad = check_against_rtl(u, cfgs, rtl_dir());
       ASSERT_FALSE(bad.empty()) << name << delta;
       const std::string want = u.uses_format ? std::string(name) + " e8m23" : std::string(name);
@@ -94,7 +94,7 @@ TEST(Registry, MissingLocalparamIsReported) {
   u.top = "ru_lzc";  // a building block: no MaxUsefulStages
   u.filelist = "ru_fp_add.f";
   u.params = {};
-  const auto bad = check_against_rtl(u, {UnitConfig{Format::parse("e5m10"), 0, {}}}, rtl_dir());
+  const auto bad = check_against_rtl(u, {UnitConfig{Format::parse("e5m10"), 0, {}, {}}}, rtl_dir());
   ASSERT_EQ(bad.size(), 1u) << joined(bad);
   EXPECT_NE(bad[0].find("no localparam MaxUsefulStages"), std::string::npos) << bad[0];
 }
@@ -135,7 +135,7 @@ TEST(Registry, RtlReadmeTableAgrees) {
   ASSERT_GE(fmts.size(), 3u);
   for (size_t i = 0; i < fmts.size(); ++i) {
     SCOPED_TRACE(fmts[i]);
-    const UnitConfig c{Format::parse(fmts[i]), 0, {}};
+    const UnitConfig c{Format::parse(fmts[i]), 0, {}, {}};
     int mul = -1, div = -1, dot3 = -1;
     ASSERT_EQ(std::sscanf(maxs[i].c_str(), "%d / %d / %d", &mul, &div, &dot3), 3) << maxs[i];
     EXPECT_EQ(find_unit("fp_mul").max_stages(c), mul);
@@ -147,7 +147,7 @@ TEST(Registry, RtlReadmeTableAgrees) {
     const std::regex re("\\| `ru_" + std::string(name) + "` *\\|[^\\n]*\\| *([0-9]+) *\\|");
     std::smatch m;
     ASSERT_TRUE(std::regex_search(md, m, re)) << name;
-    EXPECT_EQ(find_unit(name).max_stages(UnitConfig{Format::parse("e8m23"), 0, {}}), std::stoi(m[1].str()))
+    EXPECT_EQ(find_unit(name).max_stages(UnitConfig{Format::parse("e8m23"), 0, {}, {}}), std::stoi(m[1].str()))
         << name;
   }
 }
@@ -183,7 +183,7 @@ TEST(Registry, ReadmeOnePastTheMaximumAgrees) {
 
 TEST(Registry, ExpressionsEvaluate) {
   const UnitSpec& mul = find_unit("fp_mul");
-  const UnitConfig c{Format::parse("e8m23"), 0, {}};
+  const UnitConfig c{Format::parse("e8m23"), 0, {}, {}};
   EXPECT_EQ(eval_expr("W", mul, c), 32);
   EXPECT_EQ(eval_expr("3*W", mul, c), 96);
   EXPECT_EQ(eval_expr("L+4", mul, c), 11);  // csa_levels(24) = 7

@@ -242,7 +242,7 @@ std::string sta_harness_verilog(const std::string& unit_top, const std::vector<P
 }
 
 std::string sta_script(const CellLibrary& lib, const std::string& netlist, const std::string& top,
-                       double period_ps) {
+                       double period_ps, bool scan_levels) {
   std::ostringstream s;
   s << "# rayunits cell flow: static timing of the unit inside its register harness (cell.hpp).\n"
        "# The liberty has no wire-load model: net delays are those of pin capacitances only,\n"
@@ -283,13 +283,43 @@ std::string sta_script(const CellLibrary& lib, const std::string& netlist, const
        "  regsub {/[^/]*$} $en {} eninst\n"
        "  puts \"RU_END_LEVEL [ru_level $eninst]\"\n"
        "}\n";
+  if (scan_levels)
+    // Every register end point: its level (memoized, the same rule as ru_level) and the period
+    // its worst path needs; per level the largest. Output ports (no instance) are skipped: the
+    // harness registers every output.
+    s << "array set ru_lv {}\n"
+         "proc ru_lvl {inst} {\n"
+         "  global ru_lv\n"
+         "  if {[info exists ru_lv($inst)]} { return $ru_lv($inst) }\n"
+         "  set d [get_pins -quiet $inst/D]\n"
+         "  set l -1\n"
+         "  if {$d ne \"\"} {\n"
+         "    set l 0\n"
+         "    foreach c [get_fanin -to $d -flat -startpoints_only -only_cells] {\n"
+         "      set n [get_full_name $c]\n"
+         "      if {$n ne \"\" && $n ne $inst} { set l [expr {[ru_lvl $n] + 1}]; break }\n"
+         "    }\n"
+         "  }\n"
+         "  set ru_lv($inst) $l\n"
+         "  return $l\n"
+         "}\n"
+         "array set ru_need {}\n"
+         "foreach e [find_timing_paths -path_delay max -group_count 10000000 -endpoint_count 1] {\n"
+         "  set en [get_full_name [[$e vertex] pin]]\n"
+         "  if {![regsub {/[^/]*$} $en {} inst]} continue\n"
+         "  set l [ru_lvl $inst]\n"
+         "  set need [expr {" << ps_to_ns(period_ps) << "e-9 - [$e slack]}]\n"
+         "  if {![info exists ru_need($l)] || $need > $ru_need($l)} { set ru_need($l) $need }\n"
+         "}\n"
+         "foreach l [lsort -integer [array names ru_need]] { puts \"RU_STAGE $l [expr {$ru_need($l) * 1e12}]\" }\n";
   return s.str();
 }
 
 StaResult run_sta(const CellLibrary& lib, const std::string& sta, const std::string& netlist,
                   const std::string& top, double period_ps, int stages, const std::string& dir,
-                  const std::string& stem, int timeout_s) {
-  const std::string text = run_sta_script(sta, sta_script(lib, netlist, top, period_ps), dir, stem, timeout_s);
+                  const std::string& stem, int timeout_s, bool scan_levels) {
+  const std::string text =
+      run_sta_script(sta, sta_script(lib, netlist, top, period_ps, scan_levels), dir, stem, timeout_s);
   const std::string log = dir + "/" + stem + ".log";
   StaResult r;
   r.period_ps = period_ps;
@@ -322,6 +352,12 @@ StaResult run_sta(const CellLibrary& lib, const std::string& sta, const std::str
   if (std::regex_search(text, m, std::regex(R"re(RU_END_LEVEL (-?\d+))re"))) {
     const int lvl = std::stoi(m[1]);
     r.path.segment = lvl > 0 ? lvl : 0;
+  }
+  if (scan_levels) {
+    static const std::regex re(R"re(RU_STAGE (-?\d+) (-?[0-9.eE+-]+))re");
+    for (auto it = std::sregex_iterator(text.begin(), text.end(), re); it != std::sregex_iterator(); ++it)
+      r.level_ps[std::stoi((*it)[1])] = std::stod((*it)[2]);
+    if (r.level_ps.empty()) throw SynthError("STA level scan printed no levels (log: " + log + ")");
   }
   return r;
 }

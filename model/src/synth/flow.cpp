@@ -371,7 +371,7 @@ CellResult run_cell_flow(const std::vector<std::string>& abs_sources, const std:
     const double period = clocks[k] > 0 ? clocks[k] : kUntargetedPeriodPs;
     const auto t1 = std::chrono::steady_clock::now();
     run.sta = run_sta(lib, o.sta, dir + "/" + stem + ".v", "ru_sta_harness", period, stages, dir, stem + "_sta",
-                      o.timeout_s);
+                      o.timeout_s, o.stage_periods);
     run.sta_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
     run.achieved_ps = period - run.sta.slack_ps;
     run.fmax_mhz = 1e6 / run.achieved_ps;
@@ -542,8 +542,104 @@ SynthResult run_flow(const std::vector<std::string>& sources, const std::string&
   return r;
 }
 
+namespace {
+
+// Register placement by measured delays (FlowOptions::placement "delay"): the unit with every
+// cut position registered, mapped in the same flow for its fastest netlist (kCharacterizeTargetPs), and OpenSTA's period of
+// each stage. A segment's logic delay = its stage's period minus the clock-to-Q and setup of the
+// critical path (the same flip-flop cell everywhere); the weights are those delays in steps of
+// ceil(max / 255) ps (the RTL's 8-bit weights), at least 1.
+constexpr double kCharacterizeTargetPs = 200;
+void characterize_segments(const UnitSpec& u, const UnitConfig& c, const FlowOptions& o, SynthResult& out,
+                           UnitConfig& placed) {
+  UnitConfig all = c;
+  all.stages = u.max_stages(c);
+  all.seg_weights.clear();
+  FlowOptions fc = o;
+  fc.placement = "depth";
+  fc.stage_periods = true;
+  fc.netlist_out.clear();
+  fc.keep_temp = false;
+  // Mapped as fast as ABC can (a target below every segment's delay): ABC speeds up a path only
+  // as far as its target asks, so at a relaxed target a segment's delay says how it was mapped
+  // (fp_mul e8m23 at 6.7 ns: a 5.6 ns carry-propagate adder that the same target maps in far
+  // less once it shares a stage with other segments), not how long it must take.
+  fc.clocks_ps = {kCharacterizeTargetPs};
+  // The same characterization serves every Stages of a unit (gen --clock probes several): cached
+  // for the process by configuration, flow, clock and sources.
+  static std::mutex mu;
+  static std::map<std::string, SynthResult> cache;
+  const std::string rtl = fc.rtl_dir.empty() ? default_rtl_dir() : fc.rtl_dir;
+  const std::string key = config_args(u, all) + "|" + fc.flow + "|" + (fc.clocks_ps.empty() ? "-" : fmt_num(fc.clocks_ps[0], 3)) +
+                          "|" + sources_hash(resolve_sources(u, rtl)) + "|" + fc.yosys + "|" + fc.sta;
+  SynthResult r;
+  bool cached = false;
+  {
+    std::unique_lock<std::mutex> lock(mu);
+    auto it = cache.find(key);
+    if (it != cache.end()) {
+      r = it->second;
+      cached = true;
+    } else {
+      lock.unlock();
+      r = run_synth(u, all, fc);
+      lock.lock();
+      cache.emplace(key, r);
+    }
+  }
+  const CellRun& run = r.cell.runs.at(0);
+  const double overhead = run.sta.path.clk_to_q_ps + run.sta.path.setup_ps;
+  double dmax = 0;
+  for (double p : run.stage_ps) {
+    out.segment_delays_ps.push_back(std::max(0.0, p - overhead));
+    dmax = std::max(dmax, out.segment_delays_ps.back());
+  }
+  const double step = std::max(1.0, std::ceil(dmax / 255));
+  for (double d : out.segment_delays_ps) out.seg_weights.push_back(std::clamp(static_cast<int>(std::lround(d / step)), 1, 255));
+  out.step_seconds["characterize"] = cached ? 0.0 : r.seconds;
+  placed.seg_weights = out.seg_weights;
+}
+
+}  // namespace
+
 SynthResult run_synth(const UnitSpec& u, const UnitConfig& c, const FlowOptions& o) {
   check_config(u, c);
+  if (o.placement != "depth" && o.placement != "delay")
+    throw SynthError("unknown placement '" + o.placement + "' (placements: depth, delay)");
+  if (o.placement == "delay") {
+    if (!is_cell_flow(o.flow))
+      throw SynthError("--placement delay needs a cell-library flow (--flow osu018, osu035 or osu050): the delays "
+                       "come from its static timing");
+    if (!u.seg_weights_param) {
+      std::string with;
+      for (const auto& x : units())
+        if (x.seg_weights_param) with += (with.empty() ? "" : ", ") + x.name;
+      throw SynthError("--placement delay: " + u.name + " places its registers through its sub-units' chain "
+                       "(units with their own placement: " + with + ")");
+    }
+  }
+  if (!c.seg_weights.empty()) {
+    if (!u.seg_weights_param) throw SynthError(u.name + " has no SegW parameter (segment weights)");
+    if (static_cast<int>(c.seg_weights.size()) != u.max_stages(c) + 1)
+      throw SynthError(u.name + ": " + std::to_string(c.seg_weights.size()) + " segment weights, the unit has " +
+                       std::to_string(u.max_stages(c) + 1) + " segments");
+  }
+  if (o.placement == "delay" && c.seg_weights.empty()) {
+    SynthResult r;
+    UnitConfig placed = c;
+    // At Stages 0 and at the maximum there is nothing to place: every cut or none.
+    if (c.stages > 0 && c.stages < u.max_stages(c)) characterize_segments(u, c, o, r, placed);
+    FlowOptions fp = o;
+    fp.placement = "depth";  // the weights (if any) are in `placed` now
+    fp.stage_periods = true;
+    SynthResult f = run_synth(u, placed, fp);
+    f.cfg = c;  // the request (the weights are in f.seg_weights)
+    f.placement = "delay";
+    f.segment_delays_ps = r.segment_delays_ps;
+    f.seg_weights = r.seg_weights;
+    for (const auto& [k, v] : r.step_seconds) f.step_seconds[k] = v;
+    return f;
+  }
   const std::string rtl = o.rtl_dir.empty() ? default_rtl_dir() : o.rtl_dir;
   const Sources src = resolve_sources(u, rtl);
   std::vector<std::string> sources = src.files;
@@ -572,7 +668,22 @@ SynthResult run_synth(const UnitSpec& u, const UnitConfig& c, const FlowOptions&
   r.unit = u.name;
   r.cfg = c;
   r.rtl_hash = sources_hash(src);
-  for (auto& run : r.cell.runs) run.sta.path.segments = c.stages + 1;
+  for (auto& run : r.cell.runs) {
+    run.sta.path.segments = c.stages + 1;
+    if (!o.stage_periods) continue;
+    // Levels 1..stages+1 each once (level 0: the harness input registers); anything else means
+    // the register structure is not the one the level rule assumes.
+    for (const auto& [l, v] : run.sta.level_ps)
+      if (l < 0 || l > c.stages + 1)
+        throw SynthError(config_args(u, c) + ": STA found registers at level " + std::to_string(l) + ", expected 0.." +
+                         std::to_string(c.stages + 1));
+    for (int l = 1; l <= c.stages + 1; ++l) {
+      auto it = run.sta.level_ps.find(l);
+      if (it == run.sta.level_ps.end())
+        throw SynthError(config_args(u, c) + ": STA found no register ending pipeline stage " + std::to_string(l));
+      run.stage_ps.push_back(it->second);
+    }
+  }
   if (o.keep_temp) r.temp_dir = tmp.path();
   return r;
 }
@@ -654,6 +765,17 @@ std::vector<json> to_json_rows(const SynthResult& r) {
       c["step_seconds"] = {{"premap_shared", round_to(r.cell.premap_s, 0.01)},
                            {"abc_map", round_to(run.yosys_s, 0.01)},
                            {"sta", round_to(run.sta_s, 0.01)}};
+      if (r.step_seconds.count("characterize"))
+        c["step_seconds"]["characterize_shared"] = round_to(r.step_seconds.at("characterize"), 0.01);
+      c["placement"] = r.placement;
+      auto rounded = [](const std::vector<double>& v) {
+        json a = json::array();
+        for (double x : v) a.push_back(round_to(x, 0.1));
+        return a;
+      };
+      c["segment_delays_ps"] = r.segment_delays_ps.empty() ? json(nullptr) : rounded(r.segment_delays_ps);
+      c["seg_weights"] = r.seg_weights.empty() ? json(nullptr) : json(r.seg_weights);
+      c["stage_periods_ps"] = run.stage_ps.empty() ? json(nullptr) : rounded(run.stage_ps);
       if (!r.temp_dir.empty()) c["temp_dir"] = r.temp_dir;
       rows.push_back(std::move(c));
     }
@@ -742,6 +864,21 @@ std::string format_table(const SynthResult& r) {
                                                     : std::string()) +
               ": clk-to-Q " + fmt_num(p.clk_to_q_ps, 0) + " + logic " + fmt_num(p.logic_ps, 0) + " ps (" +
               std::to_string(p.cells) + " cells) + setup " + fmt_num(p.setup_ps, 0) + " ps");
+      if (!run.stage_ps.empty()) {
+        std::string st;
+        for (double v : run.stage_ps) st += (st.empty() ? "" : ", ") + fmt_num(v, 0);
+        row("stage periods", st + " ps (stage 1 first; OpenSTA, each stage's worst register)");
+      }
+    }
+    if (r.placement == "delay") {
+      std::string d;
+      for (double v : r.segment_delays_ps) d += (d.empty() ? "" : ", ") + fmt_num(v, 0);
+      row("placement", r.seg_weights.empty()
+                           ? std::string("delay (nothing to place at Stages ") + std::to_string(r.cfg.stages) + ")"
+                           : "delay: segment logic delays " + d + " ps (every cut registered, " +
+                                 fmt_num(r.step_seconds.count("characterize") ? r.step_seconds.at("characterize") : 0,
+                                         1) +
+                                 " s)");
     }
     row("library", c.liberty + ", FO4 " + fmt_num(c.fo4_ps, 1) + " ps (sta), no wire-load model (pre-placement)");
     row("tools", r.yosys_version + ", " + c.sta_version + ", " + fmt_num(r.seconds, 1) + " s" +

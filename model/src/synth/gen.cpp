@@ -103,6 +103,8 @@ json datasheet_json(const UnitSpec& u, const UnitConfig& c, const std::vector<st
   json params = json::object();
   for (const auto& [k, v] : params_for(u, c)) params[k] = v;
   ds["parameters"] = params;
+  ds["placement"] = c.seg_weights.empty() ? "depth" : "delay";
+  ds["seg_weights"] = c.seg_weights.empty() ? json(nullptr) : json(c.seg_weights);  // SegW, segment 0 first
   json ports = json::array();
   for (const auto& p : ports_for(u, c))
     ports.push_back({{"name", p.name},
@@ -226,8 +228,16 @@ std::string datasheet_markdown(const json& ds) {
   return o.str();
 }
 
-GenReport generate(const UnitSpec& u, const UnitConfig& c, const GenOptions& o) {
-  check_config(u, c);
+GenReport generate(const UnitSpec& u, const UnitConfig& request, const GenOptions& o) {
+  check_config(u, request);
+  // Delay-based placement: the weights come from a synthesis (the clock search's, or one here).
+  UnitConfig c = request;
+  std::optional<SynthResult> placed = o.reuse;
+  if (o.flow.placement == "delay" && c.seg_weights.empty()) {
+    if (!o.run_flow) throw SynthError("--placement delay needs the cell-library flow run (not --no-synth)");
+    if (!placed) placed = run_synth(u, c, o.flow);
+    c.seg_weights = placed->seg_weights;
+  }
   if (o.out_dir.empty()) throw SynthError("--out DIR is required");
   const std::string rtl = o.flow.rtl_dir.empty() ? default_rtl_dir() : o.flow.rtl_dir;
   const Sources src = resolve_sources(u, rtl);
@@ -284,7 +294,7 @@ GenReport generate(const UnitSpec& u, const UnitConfig& c, const GenOptions& o) 
                                                "\n# Run from this directory: yosys synth.ys\n" +
                                                generic_script(names, top, false, u.synth_share));
 
-    std::optional<SynthResult> synth = o.reuse;
+    std::optional<SynthResult> synth = placed;
     if (o.run_flow && !synth) {
       TempDir work("ru-gen-" + u.name + "-", o.flow.temp_parent);
       std::vector<std::string> abs;

@@ -69,6 +69,7 @@ UnitSpec fp_unit(const char* name, const char* summary, std::vector<PortSpec> op
   s.params = fp_params();
   s.ports = fp_ports(std::move(operands));
   s.max_stages_expr = max_stages;
+  s.seg_weights_param = true;
   return s;
 }
 
@@ -97,6 +98,7 @@ std::vector<UnitSpec> make_units() {
                       {in("a_i", "3*W", "{a2, a1, a0}, a0 in the low bits"),
                        in("b_i", "3*W", "{b2, b1, b0}, b0 in the low bits")},
                       "L+16"));
+  u.back().seg_weights_param = false;  // its FP instances get their cuts from its level chain
   {
     UnitSpec s;
     s.name = "ray_box";
@@ -347,6 +349,7 @@ std::string wrapper_name(const UnitSpec& u, const UnitConfig& c) {
     if (c.fmt.round != num::Round::RNE) n += std::string("_") + num::round_name(c.fmt.round);
     if (!c.fmt.subnormals) n += "_ftz";
   }
+  if (!c.seg_weights.empty()) n += "_dly";  // registers placed by measured delays (SegW)
   return n;
 }
 
@@ -362,6 +365,7 @@ std::string config_args(const UnitSpec& u, const UnitConfig& c) {
     if (c.fmt.round != num::Round::RNE) s += std::string(" --round ") + num::round_name(c.fmt.round);
     if (!c.fmt.subnormals) s += " --ftz";
   }
+  if (!c.seg_weights.empty()) s += " --placement delay";
   return s;
 }
 
@@ -495,8 +499,24 @@ std::string wrapper_verilog(const UnitSpec& u, const UnitConfig& c) {
   }
   o << ");\n\n  " << u.top << " #(\n";
   for (size_t i = 0; i < params.size(); ++i)
-    o << "    ." << params[i].first << "(" << params[i].second << ")" << (i + 1 < params.size() ? "," : "")
-      << "\n";
+    o << "    ." << params[i].first << "(" << params[i].second << ")"
+      << (i + 1 < params.size() || !c.seg_weights.empty() ? "," : "") << "\n";
+  if (!c.seg_weights.empty()) {
+    // Packed 8-bit weights, segment 0 in the low bits (ru_pipe_pkg::pick_w); the rest zero.
+    if (!u.seg_weights_param) throw SynthError(u.name + " has no SegW parameter");
+    o << "    // segment weights (segment 0 first):";
+    for (int w : c.seg_weights) o << " " << w;
+    o << "\n";
+    o << "    .SegW(" << 8 * c.seg_weights.size() << "'h";
+    for (size_t i = c.seg_weights.size(); i-- > 0;) {
+      if (c.seg_weights[i] < 1 || c.seg_weights[i] > 255)
+        throw SynthError("segment weight " + std::to_string(c.seg_weights[i]) + " outside 1..255");
+      char b[3];
+      std::snprintf(b, sizeof b, "%02x", c.seg_weights[i]);
+      o << b;
+    }
+    o << ")\n";
+  }
   o << "  ) u_unit (\n";
   for (size_t i = 0; i < ports.size(); ++i) {
     const auto& p = ports[i];

@@ -63,17 +63,23 @@ struct StaResult {
   double slack_ps = 0;   // worst setup slack
   double tns_ps = 0;
   StaPath path;
+  // With scan_levels: register level -> the shortest period the registers of that level meet
+  // (period - their worst slack). Level 0: the harness input registers; level k: the stage
+  // ending there (the unit's stage k of stages + 1; run_synth checks the levels are 1..stages+1).
+  std::map<int, double> level_ps;
   std::string report;  // the report_checks text (also in the work directory)
 };
 
 // Runs OpenSTA on `netlist` (top `top`, harness instance u_dut) at `period_ps`. `stages` is the
 // unit's latency (for the segment numbering). Logs go to dir/<stem>.*.
+// scan_levels: also time every register end point and group them by level (StaResult::stage_ps;
+// one path search per end point: slower on large units).
 StaResult run_sta(const CellLibrary& lib, const std::string& sta, const std::string& netlist,
                   const std::string& top, double period_ps, int stages, const std::string& dir,
-                  const std::string& stem, int timeout_s);
+                  const std::string& stem, int timeout_s, bool scan_levels = false);
 // The Tcl script run_sta runs (written to dir/<stem>.tcl).
 std::string sta_script(const CellLibrary& lib, const std::string& netlist, const std::string& top,
-                       double period_ps);
+                       double period_ps, bool scan_levels = false);
 
 // The register harness of STA: module `ru_sta_harness` with the unit's ports; every input goes
 // through a flip-flop (lib.flop_cell after dfflibmap) into the unit and every output into one, so

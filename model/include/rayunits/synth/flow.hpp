@@ -22,6 +22,12 @@ struct FlowOptions {
   std::vector<double> clocks_ps;
   std::string sta = "sta";      // OpenSTA
   std::string netlist_out;      // cell flow: copy the mapped unit (first clock) here; empty: no
+  // Register placement (units with a SegW parameter, UnitSpec::seg_weights_param): "depth" (the
+  // RTL's own depth estimates) or "delay" (a cell flow first maps the unit with every cut
+  // registered and times each stage; those delays become the SegW weights of the placement).
+  std::string placement = "depth";
+  // Cell flow: OpenSTA also reports the period every pipeline stage needs (CellRun::stage_ps).
+  bool stage_periods = false;
   std::string yosys = "yosys";  // name on PATH or a path
   std::string nextpnr = "nextpnr-ice40";
   std::string rtl_dir;                // empty: default_rtl_dir()
@@ -96,6 +102,9 @@ struct CellRun {
   std::string netlist;     // the mapped unit module (in the work directory)
   double fmax_mhz = 0;
   double yosys_s = 0, sta_s = 0;
+  // With FlowOptions::stage_periods (set by run_synth): the period each of the stages + 1
+  // pipeline stages needs, in order (from StaResult::level_ps).
+  std::vector<double> stage_ps;
 };
 
 // The STA clock of a mapping without a target: any period gives the same achieved period
@@ -124,6 +133,13 @@ struct SynthResult {
   double seconds = 0;                          // wall time of run_flow
   std::map<std::string, double> step_seconds;  // generic, ice40, ice40_harness, nextpnr, xilinx
   std::string temp_dir;                        // only when kept
+  // Register placement: "depth" or "delay" (FlowOptions::placement). With "delay" at
+  // 0 < Stages < maximum: the characterization (every cut registered, same flow and first
+  // clock): the logic delay of each segment (stage period minus clock-to-Q and setup) and the
+  // SegW weights made of them (UnitConfig::seg_weights).
+  std::string placement = "depth";
+  std::vector<double> segment_delays_ps;
+  std::vector<int> seg_weights;
 };
 
 // Synthesizes the wrapper of (unit, config): checks the request, writes the wrapper into a

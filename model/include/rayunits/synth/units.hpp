@@ -36,6 +36,10 @@ struct UnitConfig {
   // Unit-specific parameters (UnitSpec::extra_params) given with --param Name=Value; a
   // parameter not in the map takes its default.
   std::map<std::string, long long> params;
+  // Segment weights of the automatic register placement (RTL parameter SegW, units with
+  // UnitSpec::seg_weights_param): empty = the RTL's depth estimates; else one weight 1..255 per
+  // segment (run_synth with placement "delay" sets them from STA).
+  std::vector<int> seg_weights;
 };
 
 enum class PortDir { In, Out };
@@ -91,6 +95,9 @@ struct UnitSpec {
   // false: the generic flow runs `synth -noshare` (Yosys' SAT-based resource sharing takes
   // hours on the ray-triangle units; it only merges mutually exclusive shifters/adders).
   bool synth_share = true;
+  // The RTL has a SegW parameter (packed 8-bit segment weights of its cut placement,
+  // ru_pipe_pkg::pick_w): one segment per cut position + 1, i.e. max_stages + 1 segments.
+  bool seg_weights_param = false;
   // Further constraints between parameters; throws SynthError. May be empty.
   std::function<void(const UnitConfig&)> check;
 };
