@@ -151,7 +151,7 @@ TEST(UnitsExactOnce, SameDatapathAsRobust) {
 // Per triangle: the unit's hit == the oracle's crossing, on adversarial pairs at every width.
 // The tally also shows the cases exercise both paths and both answers.
 TEST(UnitsExactOnce, AgreesWithOracle) {
-  for (const char* fmt : kFormats) {
+  for (const char* fmt : {"e5m10", "e6m12", "e7m16", "e8m23", "e11m52", "e5m10-ftz", "e8m23-ftz"}) {
     const Tally t = check_cases(fmt, 6000);
     std::printf("%s: %zu cases, %zu hits (%zu decided by the fast path), %zu took the exact path\n", fmt, t.cases,
                 t.hits, t.fast_hits, t.slow);

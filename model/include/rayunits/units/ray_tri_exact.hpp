@@ -42,7 +42,7 @@
 // the model). Bits needed (docs/UNITS.md): every value of eXmY is an integer multiple of
 // 2^(emin-M) of magnitude < 2^L, L = 2^E + M - 2; a - m and e are < 2^(L+1); each of the six
 // terms < 2^(3L+2); S_k < 2^(3L+5): 3L+6 bits two's complement (e5m10: 126, e6m12: 228,
-// e7m16: 432, e8m23: 837, e11m52: 6300); the tie terms (d x e_k) need 2L+4 bits.
+// e7m16: 432, e8m23: 837, e11m52: 6300); the tie terms (d x e_k) need 2L+3 bits.
 //
 // Non-finite operands (INF/NaN in a, d, p0..p2): miss (the exact decision is undefined).
 #pragma once
