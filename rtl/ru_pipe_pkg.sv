@@ -197,7 +197,10 @@ package ru_pipe_pkg;
                                                        input int unsigned nseg,
                                                        input int unsigned stages);
     logic [MaxSeg:0] m;
-    m = (stages > 1) ? cut_mask(w, nseg, stages - 1) : '0;
+    // Not `(stages > 1) ? cut_mask(w, nseg, stages - 1) : '0`: Yosys 0.23 evaluates both arms of
+    // a conditional in a constant function, and at Stages 0 the unsigned stages - 1 made
+    // cut_mask's splitting loop run 2^32 times (ru_noise Stages 0 never finished elaborating).
+    m = cut_mask(w, nseg, (stages > 1) ? stages - 1 : 0);
     if (stages > 0) m[nseg-1] = 1'b1;
     cut_mask_reg_out = m;
   endfunction
