@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <string>
 
 #include "rayunits/num/fp.hpp"
@@ -239,4 +240,46 @@ TEST(UnitsExactOnce, PlantedErrorsCaughtOnMeshes) {
   o.rays = 2000;
   const auto r = run_watertight(builtin_mesh("icosphere"), o);
   EXPECT_GT(r.vertex.leaks, 0u);
+}
+
+// Long: the claim on real closed meshes from Debian's CGAL demo data (libcgal-demo, installed by
+// scripts/install-deps.sh --long): non-convex elephant (genus 3), knot1 (genus 1), eight (genus
+// 2), 3torus (genus 3, coarse: many rays cross 2-3 times), at e5m10 and e8m23, scaled x64 / x16
+// like scripts/watertight_exact.sh.
+TEST(LongUnitsExactOnce, CgalMeshes) {
+  std::string tarball;
+  for (const char* t : {"/usr/share/doc/libcgal-demo/data.tar.gz", "/usr/share/doc/libcgal-dev/data.tar.gz"}) {
+    std::FILE* f = std::fopen(t, "rb");
+    if (f) {
+      std::fclose(f);
+      tarball = t;
+      break;
+    }
+  }
+  if (tarball.empty()) GTEST_SKIP() << "libcgal-demo not installed (scripts/install-deps.sh --long)";
+  const std::string dir = std::string(RU_BINARY_DIR) + "/exact_once_cgal";
+  const std::string cmd = "mkdir -p '" + dir + "' && tar -xzf " + tarball + " -C '" + dir +
+                          "' data/meshes/elephant.off data/meshes/knot1.off data/meshes/eight.off data/meshes/3torus.off";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  for (auto [name, scale] : {std::pair{"elephant", 64.0}, {"knot1", 64.0}, {"eight", 64.0}, {"3torus", 16.0}}) {
+    Mesh m = load_mesh(dir + "/data/meshes/" + name + ".off");
+    for (Vec3d& v : m.verts) v = {v.x * scale, v.y * scale, v.z * scale};
+    for (const char* fmt : {"e5m10", "e8m23"}) {
+      WatertightOptions o;
+      o.fmt = Format::parse(fmt);
+      o.exact = true;
+      o.rays = 1000;
+      o.near_vertex_rays = 500;
+      o.seed = 4;
+      const WatertightResult r = run_watertight(m, o);
+      const std::string at = std::string(name) + " " + fmt;
+      for (const WatertightCounts* c : {&r.edge, &r.vertex, &r.near_vertex}) {
+        EXPECT_EQ(c->leaks, 0u) << at;
+        EXPECT_EQ(c->double_hits, 0u) << at;
+      }
+      if (std::string(name) == "3torus") {
+        EXPECT_GT(r.total().oracle_not_one, 0u) << at << ": multiple crossings expected";
+      }
+    }
+  }
 }
