@@ -2,10 +2,15 @@
 // (hand-computed schedule, operand records against the golden models), study workloads.
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
+
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <sstream>
 
 #include <nlohmann/json.hpp>
 
@@ -214,8 +219,8 @@ TEST(TraxAreas, MalformedTableIsOneLineNamingTheRow) {
 }
 
 // The checked-in table (model/data/trax/areas.json): every row valid and from the cell flow, the
-// rows the default chip needs measured for every format of the formats study (FP units) and at
-// e8m23 (box, both triangle units, noise), the NAND2X1 area equal to the liberty's (read from it,
+// rows the default chip needs measured for every format of the formats study (FP units, box) and
+// at e8m23 (both triangle units, noise), the NAND2X1 area equal to the liberty's (read from it,
 // when the liberty is installed), and the default chip's clock = its slowest unit's STA Fmax.
 TEST(TraxAreas, CheckedInTableIsComplete) {
   const std::string path = std::string(RU_SOURCE_DIR) + "/model/data/trax/areas.json";
@@ -239,7 +244,7 @@ TEST(TraxAreas, CheckedInTableIsComplete) {
     c.format = f;
     std::vector<AreaSource> src;
     const Config r = resolve_config(c, &src);
-    for (Unit u : {Unit::FpAdd, Unit::FpMul, Unit::FpDiv, Unit::FpCmp, Unit::Noise})
+    for (Unit u : {Unit::FpAdd, Unit::FpMul, Unit::FpDiv, Unit::FpCmp, Unit::Box, Unit::Noise})
       EXPECT_EQ(src[int(u)].how, "measured") << f << " " << unit_name(u);
     EXPECT_GT(r.clock_mhz, 0) << f;
   }
@@ -476,4 +481,74 @@ TEST(TraxStudies, SoftwareNoiseAndRayWorkloads) {
   EXPECT_GT(d.sim.cycles, p.sim.cycles);
   ro.workload = "bogus";
   EXPECT_THROW(run_trax(s, c, 8, 8, ro), std::invalid_argument);
+}
+
+// ---- `rayunits trax areas` itself (ctest label long: it runs the cell flow, ~5 s) ----
+namespace {
+struct Cli {
+  int code;
+  std::string out, err;
+};
+std::string slurp(const std::string& p) {
+  std::ifstream in(p);
+  std::ostringstream o;
+  o << in.rdbuf();
+  return o.str();
+}
+Cli trax_areas(const std::string& args) {
+  const std::string d = ::testing::TempDir();
+  const std::string o = d + "/trax_areas.out", e = d + "/trax_areas.err";
+  const std::string cmd = "nice -n 5 '" + std::string(RU_BINARY_DIR) + "/model/cli/rayunits' trax areas " + args +
+                          " >'" + o + "' 2>'" + e + "'";
+  const int st = std::system(cmd.c_str());
+  return {WIFEXITED(st) ? WEXITSTATUS(st) : -1, slurp(o), slurp(e)};
+}
+bool have_cell_flow() {
+  return std::ifstream("/usr/share/qflow/tech/osu018/osu018_stdcells.lib").good() &&
+         std::system("command -v sta >/dev/null 2>&1 && command -v yosys >/dev/null 2>&1") == 0;
+}
+}  // namespace
+
+// Measures two small rows into a fresh table, resumes without re-measuring, reads the table into
+// the model, and reproduces the checked-in rows of the same RTL (same rtl_hash) exactly.
+TEST(LongTraxAreas, MeasuresResumesAndReproducesTheCheckedInRows) {
+  if (!have_cell_flow()) GTEST_SKIP() << "osu018 liberty, yosys or sta not installed";
+  const std::string out = ::testing::TempDir() + "/trax_areas_long.json";
+  std::remove(out.c_str());
+  Cli r = trax_areas("--formats e5m6 --units fp_add,fp_cmp --out '" + out + "'");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("fp_add e5m6 Stages 2: "), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("STA Fmax"), std::string::npos) << r.out;
+  r = trax_areas("--formats e5m6 --units fp_add,fp_cmp --skip-present --out '" + out + "'");
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("fp_cmp e5m6 Stages 1: in the table (--skip-present)"), std::string::npos) << r.out;
+  const nlohmann::json fresh = nlohmann::json::parse(slurp(out));
+  ASSERT_EQ(fresh.at("rows").size(), 2u);
+  const nlohmann::json checked = nlohmann::json::parse(slurp(std::string(RU_SOURCE_DIR) + "/model/data/trax/areas.json"));
+  for (const auto& f : fresh.at("rows")) {
+    EXPECT_EQ(f.at("command").get<std::string>().rfind("rayunits synth " + f.at("unit").get<std::string>(), 0), 0u);
+    for (const auto& c : checked.at("rows"))
+      if (c.at("command") == f.at("command") && c.value("rtl_hash", "") == f.value("rtl_hash", "x")) {
+        EXPECT_EQ(c.at("area_um2"), f.at("area_um2")) << c.at("command");
+        EXPECT_EQ(c.at("fmax_mhz"), f.at("fmax_mhz")) << c.at("command");
+      }
+  }
+  // the fresh table is accepted by the model (the other units numeric)
+  setenv("RU_TRAX_AREAS", out.c_str(), 1);
+  Config c = default_config();
+  c.format = "e5m6";
+  for (Unit u : {Unit::FpMul, Unit::FpDiv, Unit::FpSqrt, Unit::Box, Unit::Tri, Unit::Noise}) c.unit(u).area = 1;
+  const Config rc = resolve_config(c);
+  EXPECT_EQ(rc.unit(Unit::FpAdd).area, fresh.at("rows")[0].at("area_um2").get<double>());
+  EXPECT_EQ(rc.clock_mhz, fresh.at("rows")[0].at("fmax_mhz").get<double>());  // fp_add is slower than fp_cmp
+  unsetenv("RU_TRAX_AREAS");
+  // bad input: one line, exit 2, nothing measured
+  r = trax_areas("--units fp_add,fp_dot3 --out '" + out + "'");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(r.err, "rayunits trax areas: error: --units: 'fp_dot3' is not a TRaX unit (accepted: fp_add, fp_mul, "
+                   "fp_div, fp_cmp, ray_box, ray_tri_robust, ray_tri_mt, noise)\n");
+  r = trax_areas("--flow osu999 --out '" + out + "'");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_NE(r.err.find("unknown flow 'osu999'"), std::string::npos) << r.err;
 }
