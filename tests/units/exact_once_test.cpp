@@ -46,18 +46,23 @@ struct Case {
 // edge midpoints, within a few ulps of vertices, grazing (d along an edge or in the plane), axis
 // aligned on integer grids (many exact zero volumes and zero tie terms), degenerate triangles,
 // intervals ending exactly at the hit.
-Case make_case(const Format& f, Rng& g) {
+// extreme != 0: coordinates scaled so that the triple products straddle the underflow (-1) or
+// the overflow (+1) threshold of the format.
+Case make_case(const Format& f, Rng& g, int extreme = 0) {
   Case c;
   const bool grid = g.below(3) == 0;
-  const double s = std::ldexp(1.0, static_cast<int>(g.below(9)) - 4);
+  const int e0 = extreme < 0 ? f.emin() / 3 : extreme > 0 ? f.emax() / 3 : 0;
+  const double s = std::ldexp(1.0, e0 + static_cast<int>(g.below(9)) - 4);
+  const double gs = extreme ? s : 1.0;
   auto pt = [&] {
-    if (grid) return Vec3d{double(g.below(5)) - 2, double(g.below(5)) - 2, double(g.below(5)) - 2};
+    if (grid) return rnd(f, Vec3d{gs * (double(g.below(5)) - 2), gs * (double(g.below(5)) - 2), gs * (double(g.below(5)) - 2)});
     return rnd(f, Vec3d{s * uni(g), s * uni(g), s * uni(g)});
   };
   c.p0 = pt(), c.p1 = pt(), c.p2 = pt();
   if (g.below(20) == 0) c.p2 = c.p0;  // degenerate
   const Vec3d* P[3] = {&c.p0, &c.p1, &c.p2};
-  c.a = grid ? Vec3d{double(g.below(9)) - 4, double(g.below(9)) - 4, double(g.below(9)) - 4} : pt();
+  c.a = grid ? rnd(f, Vec3d{gs * (double(g.below(9)) - 4), gs * (double(g.below(9)) - 4), gs * (double(g.below(9)) - 4)})
+             : pt();
   const int i = static_cast<int>(g.below(3)), j = (i + 1 + static_cast<int>(g.below(2))) % 3;
   Vec3d target;
   switch (g.below(7)) {
@@ -69,8 +74,8 @@ Case make_case(const Format& f, Rng& g) {
                       ulps(f, P[i]->z, int(g.below(7)) - 3)};
       break;
     case 3: c.d = rnd(f, Vec3d{P[j]->x - P[i]->x, P[j]->y - P[i]->y, P[j]->z - P[i]->z}); break;  // along an edge
-    case 4: c.d = grid ? Vec3d{double(g.below(3)) - 1, double(g.below(3)) - 1, double(g.below(3)) - 1}
-                       : rnd(f, Vec3d{uni(g), uni(g), uni(g)});
+    case 4: c.d = grid ? rnd(f, Vec3d{gs * (double(g.below(3)) - 1), gs * (double(g.below(3)) - 1), gs * (double(g.below(3)) - 1)})
+                       : rnd(f, Vec3d{s * uni(g), s * uni(g), s * uni(g)});
       break;
     case 5: c.a = *P[i]; target = *P[j]; break;  // origin on a vertex
     default: target = rnd(f, Vec3d{(c.p0.x + c.p1.x + c.p2.x) / 3, (c.p0.y + c.p1.y + c.p2.y) / 3,
@@ -97,7 +102,8 @@ TriExactResult<T> run_exact(const Case& c, const ExactTriOptions& o) {
                        ru::num::fp_cast<T>(c.t_min), ru::num::fp_cast<T>(c.t_max), o);
 }
 
-Tally check_cases(const char* fmt, size_t n, ExactPlant up = ExactPlant::None, OraclePlant op = OraclePlant::None) {
+Tally check_cases(const char* fmt, size_t n, ExactPlant up = ExactPlant::None, OraclePlant op = OraclePlant::None,
+                  int extreme = 0) {
   const Format f = Format::parse(fmt);
   SoftScope scope(f);
   Rng g(77 + f.frac_bits);
@@ -105,7 +111,7 @@ Tally check_cases(const char* fmt, size_t n, ExactPlant up = ExactPlant::None, O
   ExactTriOptions o;
   o.plant = up;
   for (size_t k = 0; k < n; ++k) {
-    const Case c = make_case(f, g);
+    const Case c = make_case(f, g, extreme);
     const auto r = run_exact<Soft>(c, o);
     const bool want = oracle_crosses(c.a, c.d, c.p0, c.p1, c.p2, c.t_min, c.t_max, op);
     ++t.cases;
@@ -161,6 +167,28 @@ TEST(UnitsExactOnce, AgreesWithOracle) {
     EXPECT_GT(t.slow, 300u) << fmt << ": the exact path must be exercised";
     EXPECT_GT(t.fast_hits, 100u) << fmt << ": the fast path must decide hits";
   }
+}
+
+// At the extremes: coordinates scaled so that the volumes' products underflow or overflow (the
+// filter must send those to the exact path: subnormal/flushed results, INF/NaN). Planted: without
+// the underflow check the checker fails.
+TEST(UnitsExactOnce, AgreesWithOracleAtExtremes) {
+  for (const char* fmt : {"e5m10", "e6m12", "e7m16", "e8m23", "e11m52", "e5m10-ftz", "e8m23-ftz"}) {
+    for (int ex : {-1, 1}) {
+      const Tally t = check_cases(fmt, 3000, ExactPlant::None, OraclePlant::None, ex);
+      std::printf("%s extreme %+d: %zu cases, %zu hits (%zu by the fast path), %zu took the exact path\n", fmt, ex,
+                  t.cases, t.hits, t.fast_hits, t.slow);
+      EXPECT_EQ(t.mismatches, 0u) << t.first;
+      EXPECT_GT(t.hits, 100u) << fmt << " " << ex;
+    }
+  }
+  size_t planted = 0;
+  for (const char* fmt : {"e5m10", "e8m23", "e5m10-ftz", "e8m23-ftz"}) {
+    const size_t m = check_cases(fmt, 3000, ExactPlant::NoTinyCheck, OraclePlant::None, -1).mismatches;
+    std::printf("%s extreme -1, plant NoTinyCheck: %zu mismatches\n", fmt, m);
+    planted += m;
+  }
+  EXPECT_GT(planted, 0u);
 }
 
 // The same checker with each planted error in the unit, or in the oracle, must fail.

@@ -61,6 +61,7 @@ enum class ExactPlant : uint8_t {
   NoExactPath,      // trust the rounded V_k always (zero -> neither sign, plain Fig. 3.6)
   VertexOrderTie,   // exact zeros broken by the edge's vertex order (lexmin -> lexmax), not the ray
   ShrunkBound,      // filter bound 2^-24 times too small (certifies wrong signs)
+  NoTinyCheck,      // underflow not detected (the bound is then unsound for subnormal/flushed results)
 };
 
 struct ExactTriOptions {
@@ -202,6 +203,7 @@ TriExactResult<T> ray_tri_exact(const Vec3<T>& a, const Vec3<T>& d, const Vec3<T
     vol_perm(c, s, d, e, vol, perm);
     sign[k] = sgn_fp(vol);
     const double vd = fp_to_double(vol), pd = fp_to_double(perm);
+    if (opt.plant == ExactPlant::NoTinyCheck) c.tiny = false;
     certain[k] = opt.plant == ExactPlant::NoExactPath ||
                  (!c.tiny && std::isfinite(vd) && std::isfinite(pd) && abs_greater_scaled(vd, pd, k7));
   }
@@ -240,10 +242,11 @@ TriExactResult<T> ray_tri_exact(const Vec3<T>& a, const Vec3<T>& d, const Vec3<T
   const Vec3<T> e0 = vsub_chk(c, p1, p2), e1 = vsub_chk(c, p2, p0);
   T V, PV, Va, Pa;
   vol_perm(c, e1, e0, d, V, PV);
-  const bool tinyV = c.tiny;
+  const bool tinyV = c.tiny && opt.plant != ExactPlant::NoTinyCheck;
   const Vec3<T> f2 = vsub_chk(c, p2, a);
   vol_perm(c, e1, e0, f2, Va, Pa);
   int in = -1;
+  if (opt.plant == ExactPlant::NoTinyCheck) c.tiny = false;
   if (opt.plant == ExactPlant::NoExactPath) {
     in = t_min < r.t && r.t < t_max;
   } else if (!c.tiny && !tinyV) {
