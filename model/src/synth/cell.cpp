@@ -258,52 +258,42 @@ std::string sta_script(const CellLibrary& lib, const std::string& netlist, const
     << "if {[llength [get_ports -quiet rst_ni]]} { set_false_path -from [get_ports rst_ni] }\n"
     << "report_checks -path_delay max -format full -digits 4\n"
     << "report_tns -digits 4\n"
-    // The pipeline segment of the path: register level of its end point (harness input
-    // registers are level 0; a register's level is one more than that of a register in the
-    // fan-in of its D pin; the unit is balanced, so any fan-in register gives the same level).
-    << "proc ru_level {inst} {\n"
-       "  set lvl 0\n"
-       "  for {set i 0} {$i < 100000} {incr i} {\n"
-       "    set d [get_pins -quiet $inst/D]\n"
-       "    if {$d eq \"\"} { return -1 }\n"
-       "    set next \"\"\n"
-       "    foreach c [get_fanin -to $d -flat -startpoints_only -only_cells] {\n"
-       "      if {[get_full_name $c] ne \"\"} { set next [get_full_name $c]; break }\n"
+    // The pipeline segment of the path: register level of its end point. Harness input registers
+    // are level 0; a register's level is one more than the highest level among the registers in
+    // the fan-in of its D pin (the longest register path to it), memoized. Not "any fan-in
+    // register": a unit may hold a register with no register fan-in (a constant mapped to a
+    // flip-flop, level 0) next to its real pipeline (fp_mul e7m16 Stages 4: 25 harness output
+    // registers see both; the first-fan-in rule gave levels outside 1..Stages+1 there).
+    << "array set ru_lv {}\n"
+       "proc ru_lvl {inst} {\n"
+       "  global ru_lv\n"
+       "  if {[info exists ru_lv($inst)]} { return $ru_lv($inst) }\n"
+       "  set ru_lv($inst) -1\n"
+       "  set d [get_pins -quiet $inst/D]\n"
+       "  if {$d eq \"\"} { return -1 }\n"
+       "  set l 0\n"
+       "  foreach c [get_fanin -to $d -flat -startpoints_only -only_cells] {\n"
+       "    set n [get_full_name $c]\n"
+       "    if {$n ne \"\" && $n ne $inst} {\n"
+       "      set x [expr {[ru_lvl $n] + 1}]\n"
+       "      if {$x > $l} { set l $x }\n"
        "    }\n"
-       "    if {$next eq \"\"} { return $lvl }\n"
-       "    set inst $next\n"
-       "    incr lvl\n"
        "  }\n"
-       "  return -1\n"
+       "  set ru_lv($inst) $l\n"
+       "  return $l\n"
        "}\n"
        "set pe [find_timing_paths -path_delay max]\n"
        "foreach e $pe {\n"
        "  set en [get_full_name [[$e vertex] pin]]\n"
        "  puts \"RU_PATH_END $en\"\n"
        "  regsub {/[^/]*$} $en {} eninst\n"
-       "  puts \"RU_END_LEVEL [ru_level $eninst]\"\n"
+       "  puts \"RU_END_LEVEL [ru_lvl $eninst]\"\n"
        "}\n";
   if (scan_levels)
-    // Every register end point: its level (memoized, the same rule as ru_level) and the period
+    // Every register end point: its level (ru_lvl above) and the period
     // its worst path needs; per level the largest. Output ports (no instance) are skipped: the
     // harness registers every output.
-    s << "array set ru_lv {}\n"
-         "proc ru_lvl {inst} {\n"
-         "  global ru_lv\n"
-         "  if {[info exists ru_lv($inst)]} { return $ru_lv($inst) }\n"
-         "  set d [get_pins -quiet $inst/D]\n"
-         "  set l -1\n"
-         "  if {$d ne \"\"} {\n"
-         "    set l 0\n"
-         "    foreach c [get_fanin -to $d -flat -startpoints_only -only_cells] {\n"
-         "      set n [get_full_name $c]\n"
-         "      if {$n ne \"\" && $n ne $inst} { set l [expr {[ru_lvl $n] + 1}]; break }\n"
-         "    }\n"
-         "  }\n"
-         "  set ru_lv($inst) $l\n"
-         "  return $l\n"
-         "}\n"
-         "array set ru_need {}\n"
+    s << "array set ru_need {}\n"
          "foreach e [find_timing_paths -path_delay max -group_count 10000000 -endpoint_count 1] {\n"
          "  set en [get_full_name [[$e vertex] pin]]\n"
          "  if {![regsub {/[^/]*$} $en {} inst]} continue\n"
