@@ -35,7 +35,7 @@ def bars(ax, labels, values, title, ylabel, color):
 
 def plot_formats(rows, fig):
     fmts = [r["format"] for r in rows]
-    per_area = [num(r["rays_per_s_per_mm2"]) / 1e6 for r in rows]
+    per_area = [num(r["rays_per_s_per_mm2"]) / 1e3 for r in rows]
     psnr = [min(num(r["psnr_db"]), 99.0) for r in rows]
     err = [num(r["error_pct"]) for r in rows]
     ok = [r["tolerated"] == "yes" for r in rows]
@@ -45,7 +45,7 @@ def plot_formats(rows, fig):
         ax1.annotate(p, (x, y), textcoords="offset points", xytext=(4, 4), fontsize=8)
     ax1.axvline(40, color="grey", ls="--", lw=0.8)
     ax1.set_xlabel("PSNR vs double (dB; identical images plotted at 99)")
-    ax1.set_ylabel("M rays/s per mm2")
+    ax1.set_ylabel("k rays/s per mm2")
     ax1.set_title("speed per area vs image quality\n(green: <= 0.1 % error pixels and PSNR >= 40 dB)", fontsize=10)
     ax1.grid(alpha=0.3)
     ax2 = fig.add_subplot(1, 2, 2)
@@ -76,8 +76,8 @@ def plot_traversal(rows, fig):
     bars(fig.add_subplot(1, 4, 2), t, [num(r["box_tests"]) for r in rows], "box tests", "tests", "tab:orange")
     bars(fig.add_subplot(1, 4, 3), t, [num(r["local_store_used_bytes"]) for r in rows], "local store used / thread",
          "bytes", "tab:green")
-    bars(fig.add_subplot(1, 4, 4), t, [num(r["rays_per_s_per_mm2"]) / 1e6 for r in rows], "rays/s per area",
-         "M rays/s per mm2", "tab:purple")
+    bars(fig.add_subplot(1, 4, 4), t, [num(r["rays_per_s_per_mm2"]) / 1e3 for r in rows], "rays/s per area",
+         "k rays/s per mm2", "tab:purple")
 
 
 def plot_noise(rows, fig):
@@ -85,8 +85,8 @@ def plot_noise(rows, fig):
     bars(fig.add_subplot(1, 3, 1), n, [num(r["rays_per_s"]) / 1e6 for r in rows], "rays/s", "M rays/s", "tab:blue")
     bars(fig.add_subplot(1, 3, 2), n, [num(r["instructions"]) / 1e6 for r in rows], "instructions", "10^6",
          "tab:orange")
-    bars(fig.add_subplot(1, 3, 3), n, [num(r["rays_per_s_per_mm2"]) / 1e6 for r in rows], "rays/s per area",
-         "M rays/s per mm2", "tab:purple")
+    bars(fig.add_subplot(1, 3, 3), n, [num(r["rays_per_s_per_mm2"]) / 1e3 for r in rows], "rays/s per area",
+         "k rays/s per mm2", "tab:purple")
 
 
 def plot_units(rows, fig):
@@ -103,11 +103,11 @@ def plot_units(rows, fig):
     ax1b.set_ylabel("area (mm2)", color="tab:grey")
     ax1.set_title("speed and area", fontsize=10)
     ax2 = fig.add_subplot(1, 2, 2)
-    ax2.plot(x, [num(r["rays_per_s_per_mm2"]) / 1e6 for r in rows], "o-", color="tab:purple")
+    ax2.plot(x, [num(r["rays_per_s_per_mm2"]) / 1e3 for r in rows], "o-", color="tab:purple")
     ax2.set_xscale("log", base=2)
     ax2.invert_xaxis()
     ax2.set_xlabel("threads per FP adder / multiplier")
-    ax2.set_ylabel("M rays/s per mm2")
+    ax2.set_ylabel("k rays/s per mm2")
     ax2.set_title("rays/s per area", fontsize=10)
     ax2.grid(alpha=0.3)
 

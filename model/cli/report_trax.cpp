@@ -18,7 +18,8 @@ std::string trax_section(ru::report::Context& ctx) {
   o.log = [&ctx](const std::string& m) { ctx.progress(m); };
   const scene::Scene s = scene::make_scene(scene_name);
   std::string md = "The TRaX-style processor model (docs/TRAX.md) running the renderer's ray tracer on scene `" +
-                   scene_name + "` at " + size + "x" + size + " pixels (default chip: 4 TMs x 32 TPs at 1 GHz). "
+                   scene_name + "` at " + size + "x" + size + " pixels (default chip: 4 TMs x 32 TPs; clock = the STA Fmax of the slowest used unit, areas in mm2 "
+                   "of osu018 cells from model/data/trax/areas.json, memories estimated). "
                    "Reproduce a table with `rayunits study trax --kind KIND --scene " + scene_name + " --size " + size +
                    " --out DIR`; larger sizes give steadier numbers. The RTL co-simulation of the box, triangle and "
                    "noise units is `rayunits trax --cosim` (ctest `trax_cosim.*`).\n\n";
