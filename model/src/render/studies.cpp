@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "rayunits/bvh/rotate.hpp"
 
 namespace ru::render {
@@ -305,56 +307,47 @@ std::string profile_text(const Profile& p, const ProfileOptions& o) {
 }
 
 std::string profile_json(const Profile& p, const ProfileOptions& o) {
-  std::ostringstream os;
-  auto num = [](double v) {
-    if (std::isinf(v)) return std::string(v > 0 ? "\"inf\"" : "\"-inf\"");
-    if (std::isnan(v)) return std::string("null");
-    char b[64];
-    std::snprintf(b, sizeof b, "%.17g", v);
-    return std::string(b);
+  using J = nlohmann::ordered_json;
+  auto num = [](double v) -> J {  // JSON has no infinities: "inf"/"-inf"; NaN as null
+    if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+    if (std::isnan(v)) return nullptr;
+    return v;
   };
   auto hist = [&](const ExpHistogram& h) {
-    std::ostringstream hs;
-    hs << "{\"finite_nonzero\": " << h.finite_nonzero() << ", \"zeros\": " << h.zeros << ", \"infs\": " << h.infs
-       << ", \"nans\": " << h.nans << ", \"min_exp\": " << h.min_exp() << ", \"max_exp\": " << h.max_exp()
-       << ", \"min_abs\": " << num(h.min_abs) << ", \"max_abs\": " << num(h.max_abs) << ", \"counts\": {";
-    bool first = true;
-    for (int e = h.min_exp(); e <= h.max_exp(); ++e) {
-      uint64_t c = h.counts[e - ExpHistogram::kMinExp];
-      if (!c) continue;
-      hs << (first ? "" : ", ") << "\"" << e << "\": " << c;
-      first = false;
-    }
-    hs << "}}";
-    return hs.str();
+    J counts = J::object();
+    for (int e = h.min_exp(); e <= h.max_exp(); ++e)
+      if (const uint64_t c = h.counts[e - ExpHistogram::kMinExp]) counts[std::to_string(e)] = c;
+    return J{{"finite_nonzero", h.finite_nonzero()}, {"zeros", h.zeros},     {"infs", h.infs},
+             {"nans", h.nans},                       {"min_exp", h.min_exp()}, {"max_exp", h.max_exp()},
+             {"min_abs", num(h.min_abs)},            {"max_abs", num(h.max_abs)}, {"counts", counts}};
   };
-  os << "{\n  \"scene\": \"" << p.scene << "\",\n  \"triangles\": " << p.triangles << ",\n  \"width\": " << o.width
-     << ",\n  \"height\": " << o.height << ",\n  \"tri\": \"" << tri_name(o.algo) << "\",\n  \"bvh\": \""
-     << bvh_name(o.bvh) << "\",\n  \"target\": {\"max_error_fraction\": " << num(o.max_error_fraction)
-     << ", \"min_psnr\": " << num(o.min_psnr) << "},\n  \"values\": " << hist(p.all) << ",\n  \"unit_operands\": "
-     << hist(p.inputs) << ",\n  \"exponent_widths\": [";
-  for (size_t i = 0; i < p.widths.size(); ++i) {
-    const auto& w = p.widths[i];
-    os << (i ? ", " : "") << "{\"exp_bits\": " << w.exp_bits << ", \"emin\": " << w.emin << ", \"emax\": " << w.emax
-       << ", \"overflow\": " << w.overflow << ", \"below_normal\": " << w.subnormal << ", \"flushed\": " << w.flushed
-       << "}";
-  }
-  os << "],\n  \"no_overflow_exp_bits\": " << p.no_overflow_exp << ",\n  \"recommended_exp_bits\": " << p.recommended_exp << ",\n  \"fraction_widths\": [";
-  for (size_t i = 0; i < p.fracs.size(); ++i) {
-    const auto& f = p.fracs[i];
-    os << (i ? ", " : "") << "{\"frac_bits\": " << f.frac_bits << ", \"errors\": " << f.diff.errors
-       << ", \"pixels\": " << f.diff.pixels << ", \"psnr\": " << num(f.diff.psnr) << ", \"meets\": "
-       << (f.meets ? "true" : "false") << "}";
-  }
-  os << "],\n  \"recommended_frac_bits\": " << p.recommended_frac << ",\n  \"recommended_format\": ";
-  if (p.recommended_exp && p.recommended_frac)
-    os << "\"e" << p.recommended_exp << "m" << p.recommended_frac << "\"";
-  else
-    os << "null";
-  os << ",\n  \"noise_evaluations\": " << p.noise_evals << ",\n  \"units\": [";
-  for (size_t i = 0; i < p.units.size(); ++i) os << (i ? ", " : "") << "\"" << p.units[i] << "\"";
-  os << "]\n}\n";
-  return os.str();
+  J j;
+  j["scene"] = p.scene;
+  j["triangles"] = p.triangles;
+  j["width"] = o.width;
+  j["height"] = o.height;
+  j["tri"] = tri_name(o.algo);
+  j["bvh"] = bvh_name(o.bvh);
+  j["target"] = {{"max_error_fraction", num(o.max_error_fraction)}, {"min_psnr", num(o.min_psnr)}};
+  j["values"] = hist(p.all);
+  j["unit_operands"] = hist(p.inputs);
+  j["exponent_widths"] = J::array();
+  for (const auto& w : p.widths)
+    j["exponent_widths"].push_back({{"exp_bits", w.exp_bits}, {"emin", w.emin}, {"emax", w.emax},
+                                    {"overflow", w.overflow}, {"below_normal", w.subnormal}, {"flushed", w.flushed}});
+  j["no_overflow_exp_bits"] = p.no_overflow_exp;
+  j["recommended_exp_bits"] = p.recommended_exp;
+  j["fraction_widths"] = J::array();
+  for (const auto& f : p.fracs)
+    j["fraction_widths"].push_back({{"frac_bits", f.frac_bits}, {"errors", f.diff.errors}, {"pixels", f.diff.pixels},
+                                    {"psnr", num(f.diff.psnr)}, {"meets", f.meets}});
+  j["recommended_frac_bits"] = p.recommended_frac;
+  j["recommended_format"] = p.recommended_exp && p.recommended_frac
+                                ? J("e" + std::to_string(p.recommended_exp) + "m" + std::to_string(p.recommended_frac))
+                                : J(nullptr);
+  j["noise_evaluations"] = p.noise_evals;
+  j["units"] = p.units;
+  return j.dump(2) + "\n";
 }
 
 }  // namespace ru::render
