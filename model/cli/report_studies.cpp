@@ -24,7 +24,6 @@
 #include "rayunits/synth/flow.hpp"
 #include "rayunits/synth/process.hpp"
 #include "rayunits/synth/sweep.hpp"
-#include "rayunits/util/csv.hpp"
 #include "rayunits/util/parallel.hpp"
 #include "studies.hpp"
 
@@ -251,19 +250,6 @@ CellRows run_cell_rows(Context& ctx, const std::string& sub, const std::vector<s
   return c;
 }
 
-// The accuracy section's rows (format, op) -> {mean_rel_err, max_rel_err, out_of_range}, read
-// from the accuracy.csv it wrote into this report (util/csv.hpp; fixed columns).
-std::map<std::string, std::vector<std::string>> accuracy_rows(const Context& ctx) {
-  std::map<std::string, std::vector<std::string>> m;
-  const std::vector<util::CsvRow> rows = util::csv_read_file(ctx.path("accuracy.csv").string());
-  for (size_t i = 1; i < rows.size(); ++i) {  // row 0: the header
-    const util::CsvRow& c = rows[i];
-    if (c.size() < 11) continue;
-    m[c[2] + " " + c[3]] = {c[6], c[7], c[10]};
-  }
-  return m;
-}
-
 // ---- section: synthesis -----------------------------------------------------------------------
 
 std::string synthesis_section(Context& ctx) {
@@ -305,8 +291,8 @@ std::string synthesis_section(Context& ctx) {
   if (ctx.opts.plots) md += "![area vs fraction bits, Fmax vs stages](synth/synth_sweep.png)\n\n";
 
   // Side by side with the accuracy section, when it ran in this report.
-  if (std::filesystem::exists(ctx.path("accuracy.csv"))) {
-    const auto accm = accuracy_rows(ctx);
+  if (!ctx.accuracy.empty()) {
+    const auto& accm = ctx.accuracy;
     Table s;
     for (const auto& r : sw.rows) {
       if (r.stages != 0 || !r.error.empty()) continue;
@@ -314,9 +300,8 @@ std::string synthesis_section(Context& ctx) {
       auto it = accm.find(r.format + " " + op);
       if (it == accm.end()) continue;
       const auto k = cr.cells(r.unit, r.format, r.stages);
-      s.push_back({r.unit, r.format, k[0], k[1],
-                   fmt("%.3g", std::atof(it->second[0].c_str())), fmt("%.3g", std::atof(it->second[1].c_str())),
-                   it->second[2]});
+      s.push_back({r.unit, r.format, k[0], k[1], fmt("%.3g", it->second.mean_rel), fmt("%.3g", it->second.max_rel),
+                   std::to_string(it->second.out_of_range)});
     }
     if (!s.empty()) {
       md += "Speed and accuracy side by side (combinational units; errors from the accuracy section's workload):\n\n";

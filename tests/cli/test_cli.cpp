@@ -514,6 +514,30 @@ TEST_F(Cli, ReportStudySections) {
   EXPECT_TRUE(fs::exists(out / "synth_osu018.jsonl"));
   // speed and accuracy side by side: the accuracy section ran first in the same report
   EXPECT_NE(idx.find("mean rel. error"), std::string::npos) << idx;
+  {
+    // ... with the accuracy section's own numbers (its accuracy.csv row e5m10 add, column 6)
+    std::ifstream csv(out / "accuracy.csv");
+    std::string line, mean;
+    while (std::getline(csv, line))
+      if (line.rfind("5,10,e5m10,add,", 0) == 0) {
+        std::stringstream ss(line);
+        for (int i = 0; i <= 6 && std::getline(ss, mean, ','); ++i) {
+        }
+      }
+    ASSERT_FALSE(mean.empty());
+    char b[32];
+    std::snprintf(b, sizeof b, "%.3g", std::atof(mean.c_str()));
+    const size_t side = idx.find("Speed and accuracy side by side");
+    ASSERT_NE(side, std::string::npos);
+    const size_t row = idx.find("| fp_add | e5m10 |", side);
+    ASSERT_NE(row, std::string::npos) << idx.substr(side);
+    // | unit | format | area | Fmax | mean rel. error | max rel. error | out of range |
+    std::vector<std::string> cells;
+    std::stringstream rs(idx.substr(row + 1, idx.find('\n', row) - row - 1));
+    for (std::string c; std::getline(rs, c, '|');) cells.push_back(c.substr(c.find_first_not_of(' ')));
+    ASSERT_GE(cells.size(), 5u);
+    EXPECT_EQ(cells[4].substr(0, cells[4].find(' ')), b) << idx.substr(row, 200);
+  }
   // watertightness rows for both algorithms
   EXPECT_NE(idx.find("| e5m10 | robust |"), std::string::npos) << idx;
   EXPECT_NE(idx.find("| e5m10 | mt |"), std::string::npos) << idx;

@@ -229,6 +229,8 @@ std::string accuracy_section(Context& ctx) {
                     s.out_of_range, s.nan,
                     s.zero_exact);
       csv << buf << worst << "\n";
+      ctx.accuracy["e" + std::to_string(c.e) + "m" + std::to_string(c.m) + " " + acc_op_name(op)] = {
+          s.mean(), s.max_rel, s.out_of_range};
     }
     csv.close();
     if (!csv) throw ReportError("cannot write " + ctx.path("accuracy.csv").string());

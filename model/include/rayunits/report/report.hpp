@@ -68,6 +68,15 @@ class Context {
   const std::filesystem::path dir;  // the (temporary) report directory; write only here
   std::string section;              // id of the running section
 
+  // Typed results a section leaves for later ones (sections run in order): the accuracy
+  // section's cells by "eXmY op" (op: add, mul, div, dot3), read by the synthesis section's
+  // speed-and-accuracy table. Empty when the accuracy section did not run in this report.
+  struct AccuracyCell {
+    double mean_rel = 0, max_rel = 0;
+    long out_of_range = 0;
+  };
+  std::map<std::string, AccuracyCell> accuracy;
+
   std::filesystem::path path(const std::string& file) const { return dir / file; }
   unsigned threads() const { return threads_; }
   std::string param(const std::string& key, const std::string& dflt) const;
