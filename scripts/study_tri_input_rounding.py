@@ -6,6 +6,10 @@ M fraction bits (round to nearest even, no exponent limit), and the exact volume
 inputs (Python Fractions, no arithmetic rounding) are compared with the exact volumes of the
 trace's own (double) inputs: the average relative error of V, Va and V0..2 that no formulation
 can avoid. Compare it with the lowest error of `study tri` (inputs and every operation rounded).
+Also counts the records whose ray origin lies on the triangle's plane (distance < 1e-9 x the
+largest coordinate of the record: shadow rays tested against the triangle they start on), whose
+exact Va is ~0, so their relative error of Va is huge, and the median over records of (largest
+|coordinate| of the triangle) / (its shortest edge), which scales the error of rounding the vertices.
 
   scripts/study_tri_input_rounding.py TRACE [N=2000] [M ...]    (default M: 8 10 12 16 20 22 23)
 """
@@ -67,8 +71,18 @@ def main():
         sys.exit(f'{sys.argv[1]}: no ray-triangle records')
     pick = [tris[i * len(tris) // n] for i in range(n)] if len(tris) > n else tris
     exact = [volumes(r) for r in pick]
+    on_plane, ratio = 0, []
+    for r in pick:
+        q = [r[6:9], r[9:12], r[12:15]]
+        edge = min(math.dist(q[0], q[1]), math.dist(q[1], q[2]), math.dist(q[2], q[0]))
+        ratio.append(max(abs(x) for x in r[6:15]) / edge if edge > 0 else math.inf)
+        a, p0, p1, p2 = (list(map(Fraction, r[3 * i:3 * i + 3])) for i in (0, 2, 3, 4))
+        nrm = cross(sub(p2, p0), sub(p2, p1))
+        dist = abs(float(dot(nrm, sub(a, p2)))) / math.sqrt(float(dot(nrm, nrm)))
+        on_plane += dist < 1e-9 * max(abs(x) for x in r[0:3] + r[6:15])
     print(f'# {sys.argv[1]}: {len(pick)} of {len(tris)} tri records (stride subsample); '
-          'input rounding only, exact arithmetic')
+          f'input rounding only, exact arithmetic; origin on the triangle plane: {on_plane}; '
+          f'median largest coordinate / shortest edge: {sorted(ratio)[len(ratio) // 2]:.3g}')
     print('M,V,Va,V012')
     for m in ms:
         s, c = [0.0, 0.0, 0.0], [0, 0, 0]
