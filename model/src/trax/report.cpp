@@ -84,6 +84,7 @@ std::string summary_json(const TraxResult& r, const std::string& scene_name, con
     << "  \"format\": \"" << c.format << "\", \"tri\": \"" << c.tri << "\", \"box\": \"" << c.box
     << "\", \"noise\": \"" << c.noise << "\", \"traversal\": \"" << c.traversal << "\", \"bvh\": \"" << c.bvh
     << "\",\n  \"tms\": " << c.tms << ", \"tps_per_tm\": " << c.tps_per_tm << ", \"clock_mhz\": " << num(c.clock_mhz)
+    << ", \"clock_source\": \"" << esc(r.clock.how) << "\""
     << ",\n  \"cycles\": " << s.cycles << ", \"rays\": " << r.rays() << ", \"primary_rays\": " << r.primary_rays
     << ", \"shadow_rays\": " << r.shadow_rays << ",\n  \"rays_per_s\": " << num(r.rays_per_second())
     << ", \"frames_per_s\": " << num(r.seconds() > 0 ? 1.0 / r.seconds() : 0.0)
