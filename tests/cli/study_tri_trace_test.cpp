@@ -139,3 +139,30 @@ TEST(CliStudyTri, MalformedTraceGivesOneErrorLine) {
   std::remove(good.c_str());
   rm_dir(out);
 }
+
+// `study tri-outputs` (issue 14 §3): a tiny run prints its tables and checks deferred's outputs;
+// bad input gives one error line.
+TEST(CliStudyTri, TriOutputsRunsAndRejectsBadInput) {
+  const std::string csv = tmp("outputs.csv"), good = tmp("outputs.trace"), out = tmp("outputs_dir");
+  const Out r = sh("study tri-outputs --synthetic 64 --exp 7 --frac 10:11 --threads 1 --quiet --csv " + csv);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("deferred outputs differing from Fig. 3.6's (must be 0): 0"), std::string::npos) << r.out;
+  const std::string rows = numbers(csv);
+  EXPECT_EQ(std::count(rows.begin(), rows.end(), '\n'), 3) << rows;  // header + 2 formats
+  // the trace path gives the same CSV as the in-memory one
+  ASSERT_EQ(sh("study tri --synthetic 64 --write-trace " + good + " --out " + out + kGrid).code, 0);
+  const std::string csv2 = tmp("outputs2.csv");
+  ASSERT_EQ(sh("study tri-outputs --trace " + good + " --exp 7 --frac 10:11 --threads 1 --quiet --csv " + csv2).code, 0);
+  EXPECT_EQ(numbers(csv2), rows);
+  for (const char* bad : {"--exp 7 --table-exp 9", "--exp 1:3", "--synthetic 8 --trace x.trace",
+                          "--trace /nonexistent/t.trace"}) {
+    const Out b = sh(std::string("study tri-outputs --quiet --csv ") + tmp("bad.csv") + " " + bad);
+    EXPECT_EQ(b.code, 2) << bad;
+    EXPECT_EQ(std::count(b.err.begin(), b.err.end(), '\n'), 1) << bad << ": " << b.err;
+  }
+  std::remove(csv.c_str());
+  std::remove(csv2.c_str());
+  std::remove(good.c_str());
+  std::remove(tmp("bad.csv").c_str());
+  rm_dir(out);
+}
