@@ -1,7 +1,11 @@
-// rayunits bench fp: ops/s of the bit-exact model vs MPFR doing the same format emulation.
+// rayunits bench fp: ops/s of the bit-exact model vs MPFR doing the same format emulation, vs a
+// minimal double-backed peer emulator and vs native float.
 //
-// Three things are timed per format and operation, alternating, in thread CPU time:
-//   model    ru::num::add/mul/div/fma on bit patterns (bits + flags out);
+// These are timed per format and operation, alternating, in thread CPU time:
+//   model    ru::num::add/mul/div/fma/sqrt on bit patterns (bits + flags out);
+//   peer     FlexFloat/CPFloat-style: doubles in, compute in double, round once to nearest
+//            (Peer below; correct for + - * / sqrt when 2(M+1)+2 <= 53, no flags, RNE only);
+//   float    native float loops over the same values (vectorized);
 //   MPFR     operands already held as mpfr_t at precision M+1, emin/emax set for the format:
 //            the operation, mpfr_subnormalize, the flags -- the cheapest possible MPFR step;
 //   MPFR+cv  the same plus mpfr_set_d of the operands and mpfr_get_d of the result (exact
@@ -38,6 +42,9 @@ volatile uint64_t g_sink;
 struct Operands {
   std::vector<uint64_t> a, b, c;  // bit patterns
   std::vector<double> da, db, dc;  // the same values as doubles
+  std::vector<uint64_t> s;        // |a| (sqrt operands)
+  std::vector<double> ds;
+  std::vector<float> fa, fb, fc, fs;  // the same values as floats (exact when E <= 8, M <= 23)
 };
 
 using util::splitmix64;
@@ -63,6 +70,14 @@ Operands make_operands(const Format& f, size_t n, uint64_t seed) {
     one(o.a, o.da);
     one(o.b, o.db);
     one(o.c, o.dc);
+    o.s.push_back(o.a.back() & ~f.sign_bit());
+    o.ds.push_back(std::fabs(o.da.back()));
+  }
+  for (size_t i = 0; i < n; ++i) {
+    o.fa.push_back(static_cast<float>(o.da[i]));
+    o.fb.push_back(static_cast<float>(o.db[i]));
+    o.fc.push_back(static_cast<float>(o.dc[i]));
+    o.fs.push_back(static_cast<float>(o.ds[i]));
   }
   return o;
 }
@@ -100,6 +115,12 @@ void model_pass(const Format& f, Op op, const Operands& o) {
         sink += r.bits ^ r.flags;
       }
       break;
+    case Op::Sqrt:
+      for (size_t i = 0; i < n; ++i) {
+        auto r = ru::num::sqrt(f, o.s[i]);
+        sink += r.bits ^ r.flags;
+      }
+      break;
     default:
       for (size_t i = 0; i < n; ++i) {
         auto r = ru::num::fma(f, o.a[i], o.b[i], o.c[i]);
@@ -108,6 +129,73 @@ void model_pass(const Format& f, Op op, const Operands& o) {
       break;
   }
   g_sink = g_sink + sink;
+}
+
+// The peer: a minimal double-backed emulator in the style of FlexFloat / CPFloat. Values are
+// held as doubles; each operation is computed in double and rounded once to the format: round to
+// nearest even at M+1 bits, or at the subnormal quantum 2^(emin-M) below the smallest normal, and
+// values beyond the largest finite become INF. Correct for + - * / sqrt when 2(M+1)+2 <= 53 --
+// and no more: no other rounding mode, no flags, no FTZ, NaN/zero signs not canonicalised.
+class Peer {
+ public:
+  explicit Peer(const Format& f)
+      : low_(52 - f.frac_bits),
+        maxv_(ru::num::to_double(f, f.max_finite())),
+        min_normal_(std::ldexp(1.0, f.emin())),
+        magic_(std::ldexp(1.0, f.emin() - f.frac_bits + 52)) {}
+  double round(double x) const {
+    const double ax = std::fabs(x);
+    if (ax < min_normal_) {  // subnormal range: x + magic rounds (RNE) at ulp(magic) = 2^(emin-M)
+      const double m = std::copysign(magic_, x);
+      return (x + m) - m;
+    }
+    uint64_t u;
+    std::memcpy(&u, &x, 8);
+    u += ((1ull << (low_ - 1)) - 1) + ((u >> low_) & 1);  // round to nearest even at M+1 bits
+    u &= ~((1ull << low_) - 1);
+    double r;
+    std::memcpy(&r, &u, 8);
+    return std::fabs(r) > maxv_ ? std::copysign(HUGE_VAL, x) : r;
+  }
+
+ private:
+  int low_;
+  double maxv_, min_normal_, magic_;
+};
+
+void peer_pass(const Peer& p, Op op, const Operands& o) {
+  uint64_t sink = 0;
+  const size_t n = o.da.size();
+  auto out = [&](double r) {
+    uint64_t u;
+    std::memcpy(&u, &r, 8);
+    sink += u;
+  };
+  switch (op) {
+    case Op::Add: for (size_t i = 0; i < n; ++i) out(p.round(o.da[i] + o.db[i])); break;
+    case Op::Mul: for (size_t i = 0; i < n; ++i) out(p.round(o.da[i] * o.db[i])); break;
+    case Op::Div: for (size_t i = 0; i < n; ++i) out(p.round(o.da[i] / o.db[i])); break;
+    case Op::Sqrt: for (size_t i = 0; i < n; ++i) out(p.round(std::sqrt(o.ds[i]))); break;
+    default: break;  // no fused multiply-add in the peer (double a*b+c rounds twice)
+  }
+  g_sink = g_sink + sink;
+}
+
+// Native float on the same values (loops the compiler vectorizes; results stored).
+std::vector<float> g_fout;
+void float_pass(Op op, const Operands& o) {
+  const size_t n = o.fa.size();
+  g_fout.resize(n);
+  float* r = g_fout.data();
+  const float *a = o.fa.data(), *b = o.fb.data(), *c = o.fc.data(), *s = o.fs.data();
+  switch (op) {
+    case Op::Add: for (size_t i = 0; i < n; ++i) r[i] = a[i] + b[i]; break;
+    case Op::Mul: for (size_t i = 0; i < n; ++i) r[i] = a[i] * b[i]; break;
+    case Op::Div: for (size_t i = 0; i < n; ++i) r[i] = a[i] / b[i]; break;
+    case Op::Sqrt: for (size_t i = 0; i < n; ++i) r[i] = __builtin_sqrtf(s[i]); break;
+    default: for (size_t i = 0; i < n; ++i) r[i] = std::fma(a[i], b[i], c[i]); break;
+  }
+  g_sink = g_sink + static_cast<uint64_t>(r[n / 2] != 0);
 }
 
 // The lean MPFR emulation; out (optional) receives the result values.
@@ -119,7 +207,7 @@ class MpfrLoop {
     mpfr_inits2(f.frac_bits + 1, a_, b_, c_, r_, static_cast<mpfr_ptr>(nullptr));
   }
   ~MpfrLoop() {
-    for (auto* v : {&ra_, &rb_, &rc_})
+    for (auto* v : {&ra_, &rb_, &rc_, &rs_})
       for (auto& x : *v) mpfr_clear(x.m);
     mpfr_clears(a_, b_, c_, r_, static_cast<mpfr_ptr>(nullptr));
     mpfr_set_emin(old_emin_);
@@ -144,6 +232,7 @@ class MpfrLoop {
     fill(ra_, o.da);
     fill(rb_, o.db);
     fill(rc_, o.dc);
+    fill(rs_, o.ds);
   }
   void resident_pass(Op op) {
     set_range();
@@ -156,6 +245,7 @@ class MpfrLoop {
         case Op::Add: t = mpfr_add(r_, ra_[i].m, rb_[i].m, rnd_); break;
         case Op::Mul: t = mpfr_mul(r_, ra_[i].m, rb_[i].m, rnd_); break;
         case Op::Div: t = mpfr_div(r_, ra_[i].m, rb_[i].m, rnd_); break;
+        case Op::Sqrt: t = mpfr_sqrt(r_, rs_[i].m, rnd_); break;
         default: t = mpfr_fma(r_, ra_[i].m, rb_[i].m, rc_[i].m, rnd_); break;
       }
       t = mpfr_subnormalize(r_, t, rnd_);
@@ -177,6 +267,10 @@ class MpfrLoop {
         case Op::Add: t = mpfr_add(r_, a_, b_, rnd_); break;
         case Op::Mul: t = mpfr_mul(r_, a_, b_, rnd_); break;
         case Op::Div: t = mpfr_div(r_, a_, b_, rnd_); break;
+        case Op::Sqrt:
+          mpfr_set_d(c_, o.ds[i], MPFR_RNDN);
+          t = mpfr_sqrt(r_, c_, rnd_);
+          break;
         default:
           mpfr_set_d(c_, o.dc[i], MPFR_RNDN);
           t = mpfr_fma(r_, a_, b_, c_, rnd_);
@@ -201,13 +295,13 @@ class MpfrLoop {
   struct Num {
     mpfr_t m;
   };
-  std::vector<Num> ra_, rb_, rc_;
+  std::vector<Num> ra_, rb_, rc_, rs_;
 };
 
 void oracle_pass(const Format& f, Op op, const Operands& o, size_t n) {
   uint64_t sink = 0;
   for (size_t i = 0; i < n; ++i) {
-    auto r = ru::num::mpfr_apply(f, op, o.a[i], o.b[i], o.c[i]);
+    auto r = ru::num::mpfr_apply(f, op, op == Op::Sqrt ? o.s[i] : o.a[i], o.b[i], o.c[i]);
     sink += r.bits ^ r.flags;
   }
   g_sink = g_sink + sink;
@@ -292,54 +386,82 @@ int run_bench_fp(int argc, char** argv) {
     fmts.push_back(f);
   }
 
-  const Op ops[4] = {Op::Add, Op::Mul, Op::Div, Op::Fma};
-  double worst[4] = {1e300, 1e300, 1e300, 1e300};
+  // The ratio line keeps add/mul/div/fma (in that order); sqrt is in the table and the peer line.
+  const Op ops[5] = {Op::Add, Op::Mul, Op::Div, Op::Fma, Op::Sqrt};
+  double worst[5] = {1e300, 1e300, 1e300, 1e300, 1e300};
+  double worst_peer[5] = {1e300, 1e300, 1e300, 1e300, 1e300};
   std::printf(
-      "bench fp: one thread, %zu random normal operand sets (exponents -8..8, fewer for E < 6), rounding %s;\n"
-      "each figure: million operations per CPU-second, median of %d runs (>= %.2f s each, the variants\n"
-      "alternating). model = ru::num bit patterns in, bits + flags out. MPFR = operands held as mpfr_t at\n"
-      "precision M+1 with the format's emin/emax: operation + mpfr_subnormalize + flags. MPFR+cv = the same\n"
-      "plus mpfr_set_d of the operands and mpfr_get_d of the result (values in, value + flags out, like\n"
-      "the model). ratio = model / MPFR, ratio+cv = model / MPFR+cv. oracle = ru::num::mpfr_apply, the test\n"
-      "oracle (bits in/out). The ratio lines use %s.\n\n",
+      "bench fp: one thread, %zu random normal operand sets (exponents -8..8, fewer for E < 6; sqrt of |a|),\n"
+      "rounding %s; each figure: million operations per CPU-second, median of %d runs (>= %.2f s each, the\n"
+      "variants alternating, same operands). model = ru::num bit patterns in, bits + flags out. peer = a\n"
+      "minimal double-backed emulator (FlexFloat/CPFloat style: doubles in, compute in double, round once\n"
+      "to nearest at M+1 bits / the subnormal quantum, overflow to INF; no other modes, no flags; no fma).\n"
+      "float = native float loops on the same values (vectorized by the compiler). MPFR = operands held as\n"
+      "mpfr_t at precision M+1 with the format's emin/emax: operation + mpfr_subnormalize + flags. MPFR+cv =\n"
+      "the same plus mpfr_set_d of the operands and mpfr_get_d of the result (values in, value + flags\n"
+      "out, like the model). m/peer = model / peer, fl/m = float / model (model's slowdown), ratio =\n"
+      "model / MPFR, ratio+cv = model / MPFR+cv. oracle = ru::num::mpfr_apply, the test oracle (bits\n"
+      "in/out). The ratio lines use %s.\n\n",
       n, ru::num::round_name(rm), reps, min_time, resident ? "MPFR (--baseline resident)" : "MPFR+cv (--baseline convert)");
-  std::printf("%-8s %-5s %9s %9s %9s %9s %9s %9s\n", "format", "op", "model", "MPFR", "MPFR+cv", "ratio", "ratio+cv",
-              "oracle");
+  std::printf("%-8s %-5s %9s %9s %9s %9s %9s %8s %8s %9s %9s %9s\n", "format", "op", "model", "peer", "float", "MPFR",
+              "MPFR+cv", "m/peer", "fl/m", "ratio", "ratio+cv", "oracle");
   for (const Format& f : fmts) {
     Operands o = make_operands(f, n, seed);
     MpfrLoop mp(f);
     mp.load(o);
-    double ratio[4];
-    for (int k = 0; k < 4; ++k) {
+    const Peer peer(f);
+    double ratio[5], rpeer[5];
+    for (int k = 0; k < 5; ++k) {
       const Op op = ops[k];
+      const bool has_peer = op != Op::Fma;
       // Same values on both sides, or the comparison means nothing.
       std::vector<double> ref(n);
       mp.pass(op, o, ref.data());
       size_t bad = 0;
       for (size_t i = 0; i < n; ++i) {
-        ru::num::Result r = ru::num::apply(f, op, o.a[i], o.b[i], o.c[i]);
+        ru::num::Result r = ru::num::apply(f, op, op == Op::Sqrt ? o.s[i] : o.a[i], o.b[i], o.c[i]);
         if (ru::num::to_double(f, r.bits) != ref[i]) ++bad;
       }
       if (bad)
         std::fprintf(stderr, "bench fp: warning: %s %s: model and MPFR differ on %zu of %zu operand sets\n",
                      f.name().c_str(), ru::num::op_name(op), bad, n);
       std::vector<std::function<void()>> passes = {[&] { model_pass(f, op, o); }, [&] { mp.resident_pass(op); },
-                                                   [&] { mp.pass(op, o, nullptr); }};
+                                                   [&] { mp.pass(op, o, nullptr); }, [&] { float_pass(op, o); }};
+      std::vector<size_t> counts = {n, n, n, n};
+      if (has_peer) {
+        passes.push_back([&] { peer_pass(peer, op, o); });
+        counts.push_back(n);
+      }
       const size_t m = std::min<size_t>(n, 4096);
-      if (oracle) passes.push_back([&] { oracle_pass(f, op, o, m); });
-      std::vector<double> t = median_ns(passes, {n, n, n, m}, reps, min_time);
-      char oracle_text[32] = "-";
-      if (oracle) std::snprintf(oracle_text, sizeof oracle_text, "%.1f", 1e3 / t[3]);
+      if (oracle) {
+        passes.push_back([&] { oracle_pass(f, op, o, m); });
+        counts.push_back(m);
+      }
+      std::vector<double> t = median_ns(passes, counts, reps, min_time);
+      char oracle_text[32] = "-", peer_text[32] = "-", mpeer_text[32] = "-";
+      if (oracle) std::snprintf(oracle_text, sizeof oracle_text, "%.1f", 1e3 / t.back());
+      rpeer[k] = 0;
+      if (has_peer) {
+        rpeer[k] = t[4] / t[0];
+        worst_peer[k] = std::min(worst_peer[k], rpeer[k]);
+        std::snprintf(peer_text, sizeof peer_text, "%.1f", 1e3 / t[4]);
+        std::snprintf(mpeer_text, sizeof mpeer_text, "%.2fx", rpeer[k]);
+      }
       ratio[k] = (resident ? t[1] : t[2]) / t[0];
       worst[k] = std::min(worst[k], ratio[k]);
-      std::printf("%-8s %-5s %9.1f %9.1f %9.1f %8.1fx %8.1fx %9s\n", f.name().c_str(), ru::num::op_name(op),
-                  1e3 / t[0], 1e3 / t[1], 1e3 / t[2], t[1] / t[0], t[2] / t[0], oracle_text);
+      std::printf("%-8s %-5s %9.1f %9s %9.1f %9.1f %9.1f %8s %7.1fx %8.1fx %8.1fx %9s\n", f.name().c_str(),
+                  ru::num::op_name(op), 1e3 / t[0], peer_text, 1e3 / t[3], 1e3 / t[1], 1e3 / t[2], mpeer_text,
+                  t[0] / t[3], t[1] / t[0], t[2] / t[0], oracle_text);
       std::fflush(stdout);
     }
-    std::printf("ratio[%s] add=%.1f mul=%.1f div=%.1f fma=%.1f\n", f.name().c_str(), ratio[0], ratio[1], ratio[2],
-                ratio[3]);
+    std::printf("ratio[%s] add=%.1f mul=%.1f div=%.1f fma=%.1f sqrt=%.1f\n", f.name().c_str(), ratio[0], ratio[1],
+                ratio[2], ratio[3], ratio[4]);
+    std::printf("peer[%s] model/peer add=%.2f mul=%.2f div=%.2f sqrt=%.2f\n", f.name().c_str(), rpeer[0], rpeer[1],
+                rpeer[2], rpeer[4]);
   }
   mpfr_free_cache();
+  std::printf("peer model/peer add=%.2f mul=%.2f div=%.2f sqrt=%.2f\n", worst_peer[0], worst_peer[1], worst_peer[2],
+              worst_peer[4]);
   std::printf("ratio add=%.1f mul=%.1f div=%.1f fma=%.1f\n", worst[0], worst[1], worst[2], worst[3]);
   return 0;
 }

@@ -247,7 +247,7 @@ Result mul_general(const Format& f, uint64_t a, uint64_t b) {
 }
 }  // namespace detail
 
-Result div(const Format& f, uint64_t a, uint64_t b) {
+Result detail::div_general(const Format& f, uint64_t a, uint64_t b) {
   Unpacked x = unpack(f, a), y = unpack(f, b);
   if (x.kind == Unpacked::NaN || y.kind == Unpacked::NaN) return nan_result(f, x.snan || y.snan);
   const bool neg = x.neg != y.neg;
@@ -271,7 +271,7 @@ Result div(const Format& f, uint64_t a, uint64_t b) {
   return round_pack(f, neg, x.exp - y.exp - (M + 3), q, st);
 }
 
-Result sqrt(const Format& f, uint64_t a) {
+Result detail::sqrt_general(const Format& f, uint64_t a) {
   Unpacked x = unpack(f, a);
   if (x.kind == Unpacked::NaN) return nan_result(f, x.snan);
   if (x.kind == Unpacked::Zero) return {signed_zero(f, x.neg), 0};
@@ -291,7 +291,7 @@ Result sqrt(const Format& f, uint64_t a) {
   return round_pack(f, false, (e - 2 * k) / 2, root, root * root != rad);
 }
 
-Result fma(const Format& f, uint64_t a, uint64_t b, uint64_t c) {
+Result detail::fma_general(const Format& f, uint64_t a, uint64_t b, uint64_t c) {
   const Unpacked x = unpack(f, a), y = unpack(f, b), z = unpack(f, c);
   const bool prod_inf = x.kind == Unpacked::Inf || y.kind == Unpacked::Inf;
   const bool prod_zero = x.kind == Unpacked::Zero || y.kind == Unpacked::Zero;

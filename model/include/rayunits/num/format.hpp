@@ -87,14 +87,14 @@ struct Result {
 };
 
 // Arithmetic: every op uses f.round and f.subnormals. Operands must fit in f.width() bits.
-// add, sub and mul are inline (fast path for normal operands/results in
-// rayunits/num/detail/fast_paths.hpp, general path in softfloat.cpp).
+// add, sub, mul, div, sqrt and fma are inline (fast paths in rayunits/num/detail/fast_paths.hpp
+// and detail/double_paths.hpp, general path in softfloat.cpp; bit for bit the same).
 inline Result add(const Format& f, uint64_t a, uint64_t b);
 inline Result sub(const Format& f, uint64_t a, uint64_t b);
 inline Result mul(const Format& f, uint64_t a, uint64_t b);
-Result div(const Format& f, uint64_t a, uint64_t b);
-Result sqrt(const Format& f, uint64_t a);
-Result fma(const Format& f, uint64_t a, uint64_t b, uint64_t c);  // a*b+c, one rounding
+inline Result div(const Format& f, uint64_t a, uint64_t b);
+inline Result sqrt(const Format& f, uint64_t a);
+inline Result fma(const Format& f, uint64_t a, uint64_t b, uint64_t c);  // a*b+c, one rounding
 // 3-term dot product as the RTL builds it (two rounding levels, not fused):
 //   p_i = round(a_i*b_i);  y = round(round(p0 + p1) + p2); flags are the OR of all five ops.
 Result dot3(const Format& f, const uint64_t a[3], const uint64_t b[3]);

@@ -1,5 +1,6 @@
 // Fast paths of add/sub and mul, and min/max/lt/le of non-NaN operands (included by
-// format.hpp; do not include directly).
+// format.hpp; do not include directly); the double-backed paths of add/sub, mul, div, sqrt
+// and fma for M <= 24 are in double_paths.hpp.
 //
 // They apply when both operands are normal, the result is normal and not next to overflow,
 // and M is small enough for 64-bit arithmetic; they compute exactly the bits and flags of the
@@ -10,12 +11,17 @@
 #pragma once
 #include <utility>
 
+#include "rayunits/num/detail/double_paths.hpp"
+
 namespace ru::num {
 namespace detail {
 
 Result add_general(const Format& f, uint64_t a, uint64_t b);
 Result sub_general(const Format& f, uint64_t a, uint64_t b);
 Result mul_general(const Format& f, uint64_t a, uint64_t b);
+Result div_general(const Format& f, uint64_t a, uint64_t b);
+Result sqrt_general(const Format& f, uint64_t a);
+Result fma_general(const Format& f, uint64_t a, uint64_t b, uint64_t c);
 Result min_general(const Format& f, uint64_t a, uint64_t b);  // every operand, NaNs included
 Result max_general(const Format& f, uint64_t a, uint64_t b);
 Result lt_general(const Format& f, uint64_t a, uint64_t b);
@@ -65,14 +71,19 @@ struct DynConsts {
   int M, E;
   int64_t bias;
   Round rm;
-  explicit DynConsts(const Format& f) : M(f.frac_bits), E(f.exp_bits), bias(f.bias()), rm(f.round) {}
+  bool subn;
+  static constexpr int plant = 0;  // tests/num/test_fast_paths.cpp plants errors with a non-zero value
+  explicit DynConsts(const Format& f)
+      : M(f.frac_bits), E(f.exp_bits), bias(f.bias()), rm(f.round), subn(f.subnormals) {}
 };
 template <int kE, int kM>
 struct FixedConsts {
   static constexpr int M = kM, E = kE;
   static constexpr int64_t bias = (1 << (kE - 1)) - 1;
   Round rm;
-  explicit FixedConsts(const Format& f) : rm(f.round) {}
+  bool subn;
+  static constexpr int plant = 0;
+  explicit FixedConsts(const Format& f) : rm(f.round), subn(f.subnormals) {}
 };
 
 template <class C>
@@ -181,20 +192,64 @@ inline bool add_fast(const C& c, uint64_t a, uint64_t b, Result& out) {
 }
 
 // Dispatch to a compile-time-constant instance for the common formats.
+template <template <class> class Op, class... A>
+inline bool dispatch_fast_n(const Format& f, Result& out, A... args) {
+  if (f.exp_bits == 8 && f.frac_bits == 23) return Op<FixedConsts<8, 23>>::run(FixedConsts<8, 23>(f), out, args...);
+  if (f.exp_bits == 7 && f.frac_bits == 16) return Op<FixedConsts<7, 16>>::run(FixedConsts<7, 16>(f), out, args...);
+  if (f.exp_bits == 5 && f.frac_bits == 10) return Op<FixedConsts<5, 10>>::run(FixedConsts<5, 10>(f), out, args...);
+  return Op<DynConsts>::run(DynConsts(f), out, args...);
+}
 template <template <class> class Op>
 inline bool dispatch_fast(const Format& f, uint64_t a, uint64_t b, Result& out) {
-  if (f.exp_bits == 8 && f.frac_bits == 23) return Op<FixedConsts<8, 23>>::run(FixedConsts<8, 23>(f), a, b, out);
-  if (f.exp_bits == 7 && f.frac_bits == 16) return Op<FixedConsts<7, 16>>::run(FixedConsts<7, 16>(f), a, b, out);
-  if (f.exp_bits == 5 && f.frac_bits == 10) return Op<FixedConsts<5, 10>>::run(FixedConsts<5, 10>(f), a, b, out);
-  return Op<DynConsts>::run(DynConsts(f), a, b, out);
+  return dispatch_fast_n<Op>(f, out, a, b);
 }
+// The 64-bit integer paths (normal operands and results) first, then the double-backed paths
+// (detail/double_paths.hpp: subnormal operands and results, tiny results, overflow).
 template <class C>
 struct AddFastOp {
-  static bool run(const C& c, uint64_t a, uint64_t b, Result& out) { return add_fast(c, a, b, out); }
+  static bool run(const C& c, Result& out, uint64_t a, uint64_t b) {
+    return add_fast(c, a, b, out) || (kDoublePaths && add_double(c, c.subn, a, b, out));
+  }
 };
 template <class C>
 struct MulFastOp {
-  static bool run(const C& c, uint64_t a, uint64_t b, Result& out) { return mul_fast(c, a, b, out); }
+  static bool run(const C& c, Result& out, uint64_t a, uint64_t b) {
+    return mul_fast(c, a, b, out) || (kDoublePaths && mul_double(c, c.subn, a, b, out));
+  }
+};
+// The integer paths alone (tests: the double paths are compared with them and the general path).
+template <class C>
+struct AddIntOp {
+  static bool run(const C& c, Result& out, uint64_t a, uint64_t b) { return add_fast(c, a, b, out); }
+};
+template <class C>
+struct MulIntOp {
+  static bool run(const C& c, Result& out, uint64_t a, uint64_t b) { return mul_fast(c, a, b, out); }
+};
+// The double-backed paths alone.
+template <class C>
+struct AddDoubleOp {
+  static bool run(const C& c, Result& out, uint64_t a, uint64_t b) { return add_double(c, c.subn, a, b, out); }
+};
+template <class C>
+struct MulDoubleOp {
+  static bool run(const C& c, Result& out, uint64_t a, uint64_t b) { return mul_double(c, c.subn, a, b, out); }
+};
+template <class C>
+struct DivDoubleOp {
+  static bool run(const C& c, Result& out, uint64_t a, uint64_t b) {
+    return kDoublePaths && div_double(c, c.subn, a, b, out);
+  }
+};
+template <class C>
+struct SqrtDoubleOp {
+  static bool run(const C& c, Result& out, uint64_t a) { return kDoublePaths && sqrt_double(c, c.subn, a, out); }
+};
+template <class C>
+struct FmaDoubleOp {
+  static bool run(const C& c, Result& out, uint64_t a, uint64_t b, uint64_t z) {
+    return kDoublePaths && fma_double(c, c.subn, a, b, z, out);
+  }
 };
 
 }  // namespace detail
@@ -213,6 +268,21 @@ inline Result mul(const Format& f, uint64_t a, uint64_t b) {
   Result r;
   if (detail::dispatch_fast<detail::MulFastOp>(f, a, b, r)) return r;
   return detail::mul_general(f, a, b);
+}
+inline Result div(const Format& f, uint64_t a, uint64_t b) {
+  Result r;
+  if (detail::dispatch_fast_n<detail::DivDoubleOp>(f, r, a, b)) return r;
+  return detail::div_general(f, a, b);
+}
+inline Result sqrt(const Format& f, uint64_t a) {
+  Result r;
+  if (detail::dispatch_fast_n<detail::SqrtDoubleOp>(f, r, a)) return r;
+  return detail::sqrt_general(f, a);
+}
+inline Result fma(const Format& f, uint64_t a, uint64_t b, uint64_t c) {
+  Result r;
+  if (detail::dispatch_fast_n<detail::FmaDoubleOp>(f, r, a, b, c)) return r;
+  return detail::fma_general(f, a, b, c);
 }
 inline Result min(const Format& f, uint64_t a, uint64_t b) {
   if (!is_nan(f, a) && !is_nan(f, b)) return {detail::minmax_ordered(f, a, b, false), 0};
