@@ -22,7 +22,9 @@ int run_study_box(int argc, char** argv) {
   CLI::App app{
       "False misses / false hits of the ray-box unit (plain: round to nearest; conservative: directed "
       "rounding) against the exact slab test on the same format-rounded inputs, per exponent/fraction "
-      "width. Counts are per million ray-box pairs. Also writes a CSV.",
+      "width; then against the ray direction d itself (the unit given inv = RNE(1/d) in the format, as the "
+      "renderer does), with the d-conservative mode (reciprocal bounds). Counts are per million ray-box "
+      "pairs. Also writes a CSV.",
       "rayunits study box"};
   BoxStudyArgs a;
   app.add_option("--trace", a.trace_file, "binary trace (docs/UNITS.md); its box records are used");
@@ -100,18 +102,34 @@ BoxStudyRun run_box_study(const BoxStudyArgs& args, const std::string& command, 
   if (!f) throw UsageError("cannot write " + csv);
   std::fprintf(f, "# %s\n# %s\n", command.c_str(), source.c_str());
   std::fprintf(f, "format,exponent_bits,significand_bits,pairs,exact_hits,plain_false_miss,plain_false_hit,"
-                  "cons_false_miss,cons_false_hit,overflow_ops\n");
+                  "cons_false_miss,cons_false_hit,overflow_ops,dir_pairs,dir_exact_hits,dir_plain_false_miss,"
+                  "dir_plain_false_hit,dir_cons_false_miss,dir_cons_false_hit,dir_dcons_false_miss,"
+                  "dir_dcons_false_hit\n");
   for (const BoxCell& c : cells) {
     std::fprintf(out, "%-10s %9llu %8.2f %10.1f %10.1f %10.1f %10.1f %10llu\n", c.fmt.name().c_str(),
                 static_cast<unsigned long long>(c.records), 100.0 * static_cast<double>(c.exact_hits) / static_cast<double>(c.records ? c.records : 1),
                 ppm(c.plain_false_miss, c.records), ppm(c.plain_false_hit, c.records), ppm(c.cons_false_miss, c.records),
                 ppm(c.cons_false_hit, c.records), static_cast<unsigned long long>(c.flags.overflow));
-    std::fprintf(f, "%s,%d,%d,%llu,%llu,%llu,%llu,%llu,%llu,%llu\n", c.fmt.name().c_str(), c.fmt.exp_bits,
+    std::fprintf(f, "%s,%d,%d,%llu,%llu,%llu,%llu,%llu,%llu,%llu", c.fmt.name().c_str(), c.fmt.exp_bits,
                  c.fmt.frac_bits, static_cast<unsigned long long>(c.records),
                  static_cast<unsigned long long>(c.exact_hits), static_cast<unsigned long long>(c.plain_false_miss),
                  static_cast<unsigned long long>(c.plain_false_hit), static_cast<unsigned long long>(c.cons_false_miss),
                  static_cast<unsigned long long>(c.cons_false_hit), static_cast<unsigned long long>(c.flags.overflow));
+    for (uint64_t v : {c.dir_records, c.dir_exact_hits, c.dir_plain_false_miss, c.dir_plain_false_hit,
+                       c.dir_cons_false_miss, c.dir_cons_false_hit, c.dir_dcons_false_miss, c.dir_dcons_false_hit})
+      std::fprintf(f, ",%llu", static_cast<unsigned long long>(v));
+    std::fprintf(f, "\n");
   }
+  // Against the direction d: what the renderer's pairs see (inv = RNE(1/d) in the format).
+  std::fprintf(out, "\nagainst the ray direction d (the unit gets inv = RNE(1/d) in the format; exact slab test on d):\n");
+  std::fprintf(out, "%-10s %9s %10s %10s %10s %10s %10s %10s\n", "format", "pairs", "plain FM", "plain FH", "cons FM",
+               "cons FH", "d-cons FM", "d-cons FH");
+  for (const BoxCell& c : cells)
+    std::fprintf(out, "%-10s %9llu %10.1f %10.1f %10.1f %10.1f %10.1f %10.1f\n", c.fmt.name().c_str(),
+                 static_cast<unsigned long long>(c.dir_records), ppm(c.dir_plain_false_miss, c.dir_records),
+                 ppm(c.dir_plain_false_hit, c.dir_records), ppm(c.dir_cons_false_miss, c.dir_records),
+                 ppm(c.dir_cons_false_hit, c.dir_records), ppm(c.dir_dcons_false_miss, c.dir_records),
+                 ppm(c.dir_dcons_false_hit, c.dir_records));
   std::fclose(f);
   std::fprintf(out, "wrote %s\n", csv.c_str());
   return {cells, source, recs.size()};

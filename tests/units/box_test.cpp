@@ -11,6 +11,7 @@
 #include "rayunits/num/fp.hpp"
 #include "rayunits/units/exact.hpp"
 #include "rayunits/units/ray_box.hpp"
+#include "rayunits/units/study.hpp"
 #include "rayunits/units/synthetic.hpp"
 
 using namespace ru::units;
@@ -301,6 +302,174 @@ TEST(UnitsBox, NeverMissCheckerCatchesPlainRounding) {
   for (const char* name : {"e5m10", "e7m16"})
     misses += check_format(Format::parse(name), 3000, 21, BoxMode::Plain, false).cons_false_miss;
   EXPECT_GT(misses, 0u);
+}
+
+// Issue 14 §4: against the ray direction d. Each record stands for a direction d in the format
+// (box_record_direction: d = the value nearest 1/inv, +-0 for an infinite inv) and the unit gets
+// inv = RNE(1/d) computed in the format, as the renderer does; the oracle is the exact slab test on
+// d itself (exact_slab_dir: t = (plane - o) / d in rationals).
+struct DirCounts {
+  size_t pairs = 0, exact_hits = 0, false_miss = 0, false_hit = 0;
+};
+
+DirCounts check_format_dir(const Format& f, size_t n, uint64_t seed, BoxMode mode, bool report = true) {
+  DirCounts c;
+  SynthBoxOptions so;
+  so.boxes = n / 16;
+  so.seed = seed;
+  auto recs = synth_box(so);
+  auto adv = adversarial(f, seed + 1, n);
+  recs.insert(recs.end(), adv.begin(), adv.end());
+  SoftScope sc(f);
+  for (const BoxRecord& rec : recs) {
+    const Vec3<Soft> o = vcast<Soft>(rec.o), lo = vcast<Soft>(rec.lo), hi = vcast<Soft>(rec.hi);
+    const Soft tmin = Soft::from_double(rec.t_min), tmax = Soft::from_double(rec.t_max);
+    const Vec3d od = vdouble(o), lod = vdouble(lo), hid = vdouble(hi);
+    bool finite = true;
+    for (int k = 0; k < 3; ++k) finite = finite && std::isfinite(od[k]) && std::isfinite(lod[k]) && std::isfinite(hid[k]);
+    Vec3<Soft> d, inv;
+    if (!finite || !box_record_direction(rec, d, inv)) continue;
+    const bool exact = exact_slab_dir(od, vdouble(d), lod, hid, tmin.to_double(), tmax.to_double()).hit;
+    const bool unit = ray_box(o, inv, lo, hi, tmin, tmax, mode).hit;
+    ++c.pairs;
+    c.exact_hits += exact;
+    if (report && exact && !unit && c.false_miss < 3)
+      ADD_FAILURE() << f.name() << " false miss against d: o=" << od.x << "," << od.y << "," << od.z
+                    << " d=" << vdouble(d).x << "," << vdouble(d).y << "," << vdouble(d).z;
+    c.false_miss += exact && !unit;
+    c.false_hit += !exact && unit;
+  }
+  return c;
+}
+
+// The reciprocal interval holds 1/d for every d of small formats, exhaustively (all finite d, both
+// signs, subnormals and FTZ): a <= 1/d <= b in exact rationals, a and b of d's sign (or zero).
+TEST(UnitsBox, ReciprocalBoundsHoldTheExactReciprocal) {
+  for (const char* name : {"e3m2", "e4m3", "e5m2", "e4m3-ftz", "e5m4-ftz", "e6m5"}) {
+    const Format f = Format::parse(name);
+    SoftScope sc(f);
+    size_t bad = 0, n = 0;
+    for (uint64_t b = 0; b < (1ull << f.width()); ++b) {
+      const Soft d = Soft::from_bits(b);
+      if (!std::isfinite(d.to_double())) continue;
+      if (!f.subnormals && d.to_double() != 0 && std::fabs(d.to_double()) < ru::num::to_double(f, f.min_normal())) continue;
+      const Soft inv = Soft::from_double(1.0) / d;
+      Soft a, bb;
+      reciprocal_bounds(inv, a, bb);
+      ++n;
+      if (d.to_double() == 0) {  // 1/+-0 = +-INF exactly: the interval must reach it
+        bad += !(std::isinf(bb.to_double()) || std::isinf(a.to_double()));
+        continue;
+      }
+      const mpq_class r = mpq_class(1) / to_q(d.to_double());
+      auto le = [](const Soft& x, const mpq_class& q) {  // x <= q, x possibly +-INF
+        const double v = x.to_double();
+        return std::isinf(v) ? v < 0 : to_q(v) <= q;
+      };
+      auto ge = [](const Soft& x, const mpq_class& q) {
+        const double v = x.to_double();
+        return std::isinf(v) ? v > 0 : to_q(v) >= q;
+      };
+      bad += !(le(a, r) && ge(bb, r));
+      bad += fp_signbit(a) != fp_signbit(d) || fp_signbit(bb) != fp_signbit(d);
+    }
+    EXPECT_EQ(bad, 0u) << name << " (" << n << " values)";
+    EXPECT_GT(n, 20u);
+  }
+}
+
+TEST(UnitsBox, DConservativeNeverMissesAgainstTheDirection) {
+  for (const char* name : {"e4m3", "e5m10", "e6m12", "e7m16", "e8m23", "e11m52", "e5m10-ftz", "e8m7-ftz"}) {
+    SCOPED_TRACE(name);
+    const DirCounts c = check_format_dir(Format::parse(name), 3000, 31, BoxMode::DConservative);
+    EXPECT_EQ(c.false_miss, 0u);
+    EXPECT_GT(c.exact_hits, 500u);
+  }
+}
+
+// Rays exactly through a box edge at a non-representable t* = s/q (q odd): from the origin,
+// d_x = q m_x 2^a and d_y = q m_y 2^b, so the planes x = s m_x 2^a and y = s m_y 2^b are
+// representable and the ray enters the x slab exactly where it leaves the y slab (closed box:
+// an exact hit). The reciprocals 1/d_x and 1/d_y round in independent directions, so a mode
+// that trusts inv (directed rounding of the products only) can see t_enter > t_exit.
+struct EdgeCase {
+  Vec3<Soft> o, d, lo, hi;
+};
+std::vector<EdgeCase> edge_cases(const Format& f, uint64_t seed, size_t n) {
+  Rng rng(seed);
+  SoftScope sc(f);
+  std::vector<EdgeCase> out;
+  const int half = std::max(1, (f.frac_bits - 3) / 2);
+  for (size_t i = 0; i < n; ++i) {
+    const double q = 3 + 2 * static_cast<double>(rng.below(6));       // 3..13
+    const double s = 1 + static_cast<double>(rng.below(4));           // t* = s/q
+    const double mx = 1 + static_cast<double>(rng.below(1u << half)), my = 1 + static_cast<double>(rng.below(1u << half));
+    const int a = static_cast<int>(rng.below(5)) - 2, b = static_cast<int>(rng.below(5)) - 2;
+    const double dx = std::ldexp(q * mx, a), dy = std::ldexp(q * my, b), dz = std::ldexp(1.0, -4);
+    EdgeCase e;
+    e.d = {Soft::from_double(dx), Soft::from_double(dy), Soft::from_double(dz)};
+    if (e.d.x.to_double() != dx || e.d.y.to_double() != dy) continue;  // not representable here
+    const double px = std::ldexp(s * mx, a), py = std::ldexp(s * my, b);
+    e.o = {Soft::from_double(0.0), Soft::from_double(0.0), Soft::from_double(0.0)};
+    e.lo = {Soft::from_double(px), Soft::from_double(py - 4 * std::fabs(py) - 1), Soft::from_double(-1.0)};
+    e.hi = {Soft::from_double(px + 4 * std::fabs(px) + 1), Soft::from_double(py), Soft::from_double(1.0)};
+    if (e.lo.x.to_double() != px || e.hi.y.to_double() != py) continue;
+    if (rng.below(2)) {  // mirror x: the ray runs towards -x
+      e.d.x = Soft::from_double(-dx);
+      const Soft l = e.lo.x;
+      e.lo.x = Soft::from_double(-e.hi.x.to_double());
+      e.hi.x = Soft::from_double(-l.to_double());
+    }
+    out.push_back(e);
+  }
+  return out;
+}
+
+size_t edge_misses(const Format& f, BoxMode mode, size_t* exact_hits = nullptr) {
+  size_t miss = 0, hits = 0;
+  const auto cases = edge_cases(f, 77, 4000);
+  SoftScope sc(f);
+  for (const EdgeCase& e : cases) {
+    Vec3<Soft> inv;
+    for (int k = 0; k < 3; ++k) inv[k] = Soft::from_double(1.0) / e.d[k];
+    const Soft tmin = Soft::from_double(0.0), tmax = Soft::from_double(INFINITY);
+    const bool exact = exact_slab_dir(vdouble(e.o), vdouble(e.d), vdouble(e.lo), vdouble(e.hi), 0.0, INFINITY).hit;
+    hits += exact;
+    miss += exact && !ray_box(e.o, inv, e.lo, e.hi, tmin, tmax, mode).hit;
+  }
+  if (exact_hits) *exact_hits = hits;
+  return miss;
+}
+
+TEST(UnitsBox, DConservativeHitsRaysThroughEdges) {
+  for (const char* name : {"e5m10", "e6m12", "e7m16", "e8m23", "e11m52", "e8m23-ftz"}) {
+    SCOPED_TRACE(name);
+    size_t hits = 0;
+    EXPECT_EQ(edge_misses(Format::parse(name), BoxMode::DConservative, &hits), 0u);
+    EXPECT_GT(hits, 1000u);  // the construction gives exact hits (the oracle agrees)
+  }
+}
+
+// The checkers can fail: the reciprocal-blind modes (the conservative one rounds the products
+// outward but trusts inv) miss rays through edges against d.
+TEST(UnitsBox, DirectionCheckerCatchesReciprocalBlindModes) {
+  size_t cons = 0, plain = 0;
+  for (const char* name : {"e5m10", "e7m16", "e8m23"}) {
+    cons += edge_misses(Format::parse(name), BoxMode::Conservative);
+    plain += edge_misses(Format::parse(name), BoxMode::Plain);
+  }
+  EXPECT_GT(cons, 0u);
+  EXPECT_GT(plain, 0u);
+}
+
+TEST(LongUnitsBox, DConservativeNeverMissesAgainstTheDirectionMany) {
+  for (const char* name : {"e3m2", "e4m3", "e5m2", "e5m10", "e6m12", "e7m16", "e8m23", "e11m52", "e5m10-ftz",
+                           "e7m16-ftz"}) {
+    for (uint64_t seed = 200; seed < 204; ++seed) {
+      const DirCounts c = check_format_dir(Format::parse(name), 50000, seed, BoxMode::DConservative);
+      EXPECT_EQ(c.false_miss, 0u) << name << " seed " << seed;
+    }
+  }
 }
 
 TEST(LongUnitsBox, ConservativeNeverMissesMany) {

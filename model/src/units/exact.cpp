@@ -105,29 +105,50 @@ XQ slab_t(const mpq_class& diff, double inv) {
   r.q = diff * to_q(inv);
   return r;
 }
-}  // namespace
-
-ExactBox exact_slab(const Vec3d& o, const Vec3d& inv, const Vec3d& lo, const Vec3d& hi,
-                    double t_min, double t_max) {
+// (plane - o) / d exactly; d = +-0: as an infinite reciprocal of d's sign.
+XQ slab_t_dir(const mpq_class& diff, double d) {
+  if (d == 0) return slab_t(diff, std::copysign(INFINITY, d));
+  XQ r;
+  r.kind = XQ::Finite;
+  r.q = diff / to_q(d);
+  return r;
+}
+// Shared by exact_slab and exact_slab_dir: `t(diff, k)` gives an axis's exact t.
+template <class F>
+ExactBox slab_test(const Vec3d& o, const Vec3d& dir, const Vec3d& lo, const Vec3d& hi, double t_min, double t_max,
+                   F t) {
   ExactBox r;
   if (std::isnan(t_min) || std::isnan(t_max)) return r;
   for (int k = 0; k < 3; ++k)
-    if (std::isnan(o[k]) || std::isnan(inv[k]) || std::isnan(lo[k]) || std::isnan(hi[k])) return r;
+    if (std::isnan(o[k]) || std::isnan(dir[k]) || std::isnan(lo[k]) || std::isnan(hi[k])) return r;
   r.t_enter = xq_of_double(t_min);
   r.t_exit = xq_of_double(t_max);
   for (int k = 0; k < 3; ++k) {
-    const bool neg = std::signbit(inv[k]);
+    const bool neg = std::signbit(dir[k]);
     const mpq_class ok = to_q(o[k]);
     const mpq_class near_plane = to_q(neg ? hi[k] : lo[k]);
     const mpq_class far_plane = to_q(neg ? lo[k] : hi[k]);
-    const XQ tn = slab_t(near_plane - ok, inv[k]);
-    const XQ tf = slab_t(far_plane - ok, inv[k]);
+    const XQ tn = t(near_plane - ok, dir[k]);
+    const XQ tf = t(far_plane - ok, dir[k]);
     if (tn.kind != XQ::None && xq_cmp(tn, r.t_enter) > 0) r.t_enter = tn;
     if (tf.kind != XQ::None && xq_cmp(tf, r.t_exit) < 0) r.t_exit = tf;
   }
   r.hit = xq_cmp(r.t_enter, r.t_exit) <= 0 && r.t_enter.kind != XQ::PosInf &&
           r.t_exit.kind != XQ::NegInf;
   return r;
+}
+}  // namespace
+
+ExactBox exact_slab(const Vec3d& o, const Vec3d& inv, const Vec3d& lo, const Vec3d& hi,
+                    double t_min, double t_max) {
+  return slab_test(o, inv, lo, hi, t_min, t_max, slab_t);
+}
+
+ExactBox exact_slab_dir(const Vec3d& o, const Vec3d& d, const Vec3d& lo, const Vec3d& hi, double t_min,
+                        double t_max) {
+  for (int k = 0; k < 3; ++k)
+    if (std::isinf(d[k])) throw std::domain_error("exact_slab_dir: infinite direction component");
+  return slab_test(o, d, lo, hi, t_min, t_max, slab_t_dir);
 }
 
 }  // namespace ru::units

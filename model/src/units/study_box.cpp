@@ -48,6 +48,21 @@ BoxCell run_cell(const Format& fmt, const std::vector<BoxRecord>& recs) {
     c.plain_false_hit += !exact && plain;
     c.cons_false_miss += exact && !cons;
     c.cons_false_hit += !exact && cons;
+    // The same box against the direction d the record stands for.
+    Vec3<Soft> d, dinv;
+    if (!box_record_direction(r, d, dinv)) continue;
+    const bool dx = exact_slab_dir(od, vdouble(d), lod, hid, tmin.to_double(), tmax.to_double()).hit;
+    const bool dp = ray_box(o, dinv, lo, hi, tmin, tmax, BoxMode::Plain).hit;
+    const bool dc = ray_box(o, dinv, lo, hi, tmin, tmax, BoxMode::Conservative).hit;
+    const bool dd = ray_box(o, dinv, lo, hi, tmin, tmax, BoxMode::DConservative).hit;
+    ++c.dir_records;
+    c.dir_exact_hits += dx;
+    c.dir_plain_false_miss += dx && !dp;
+    c.dir_plain_false_hit += !dx && dp;
+    c.dir_cons_false_miss += dx && !dc;
+    c.dir_cons_false_hit += !dx && dc;
+    c.dir_dcons_false_miss += dx && !dd;
+    c.dir_dcons_false_hit += !dx && dd;
   }
   c.flags = ru::num::soft_stats();
   c.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -55,6 +70,15 @@ BoxCell run_cell(const Format& fmt, const std::vector<BoxRecord>& recs) {
 }
 
 }  // namespace
+
+bool box_record_direction(const BoxRecord& r, Vec3<Soft>& d, Vec3<Soft>& inv) {
+  for (int k = 0; k < 3; ++k) {
+    d[k] = std::isinf(r.inv[k]) ? Soft::from_double(std::copysign(0.0, r.inv[k])) : Soft::from_double(1.0 / r.inv[k]);
+    if (!std::isfinite(d[k].to_double())) return false;
+    inv[k] = Soft::from_double(1.0) / d[k];
+  }
+  return true;
+}
 
 std::vector<BoxCell> study_box(const std::vector<BoxRecord>& recs, const BoxStudyOptions& opt) {
   std::vector<BoxCell> cells(opt.formats.size());

@@ -67,4 +67,11 @@ struct ExactBox {
 ExactBox exact_slab(const Vec3d& o, const Vec3d& inv, const Vec3d& lo, const Vec3d& hi,
                     double t_min, double t_max);
 
+// The same slab test on the ray direction d itself (not a reciprocal): per axis t = (plane - o)
+// / d exactly; a zero component (either sign) is a ray parallel to the slab, as an infinite
+// reciprocal of d's sign above (no constraint in the plane, +-INF outside). d's sign bit chooses
+// near/far. The oracle of BoxMode::DConservative (issue 14 §4). d must not be NaN or INF.
+ExactBox exact_slab_dir(const Vec3d& o, const Vec3d& d, const Vec3d& lo, const Vec3d& hi, double t_min,
+                        double t_max);
+
 }  // namespace ru::units

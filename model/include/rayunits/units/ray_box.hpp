@@ -47,7 +47,36 @@
 
 namespace ru::units {
 
-enum class BoxMode : uint8_t { Plain = 0, Conservative = 1 };
+// DConservative (issue 14 §4): conservative against the ray direction d itself, when inv is the
+// round-to-nearest reciprocal of d in the format (as the renderer computes it): per axis the true
+// 1/d lies in [a, b] = reciprocal_bounds(inv), and each product takes the end of [a, b] that gives
+// the bound (the sign of the rounded difference selects it: two incrementers and a mux per axis
+// in hardware, no extra multiplier). Proof in docs/UNITS.md.
+enum class BoxMode : uint8_t { Plain = 0, Conservative = 1, DConservative = 2 };
+
+// The interval [a, b] that holds the exact 1/d when inv = RNE(1/d) in T's format (d in the
+// format, subnormals or FTZ): inv's neighbours in the format, each clamped at inv's own signed
+// zero (the true 1/d has d's sign) and at infinity. Why it holds: a finite nonzero inv is within
+// half an ulp of 1/d (the neighbour below a power of two is half an ulp away too); inv = +-INF
+// means 1/d overflowed (|1/d| >= max + ulp/2 > max) or d = +-0; inv = +-0 means |1/d| <=
+// min_subnormal / 2 (with FTZ: below min_normal). A NaN gives [NaN, NaN].
+template <class T>
+void reciprocal_bounds(T inv, T& a, T& b) {
+  using namespace ru::num;
+  const Format f = fp_format<T>();
+  const uint64_t bits = fp_bits(inv), sign = bits & f.sign_bit(), mag = bits & ~f.sign_bit();
+  if (fp_isnan(inv)) {
+    a = b = inv;
+    return;
+  }
+  const uint64_t inf = f.inf(false), minn = f.min_normal(false);
+  // magnitude one step away from zero / towards zero, in the format's set of values
+  const uint64_t away = mag == inf ? inf : (mag == 0 && !f.subnormals) ? minn : mag + 1;
+  const uint64_t toward = mag == 0 ? 0 : (mag == minn && !f.subnormals) ? 0 : mag - 1;
+  a = fp_from_bits<T>(sign | (sign ? away : toward));
+  b = fp_from_bits<T>(sign | (sign ? toward : away));
+}
+
 
 template <class T>
 struct BoxResult {
@@ -97,9 +126,18 @@ BoxResult<T> ray_box_reference(const Vec3<T>& o, const Vec3<T>& inv, const Vec3<
       dn = ftz_bound(dn, fl[0], rn);
       T df = fp_sub_round(far_plane, o[k], rf, &fl[1]);
       df = ftz_bound(df, fl[1], rf);
-      tn[k] = fp_mul_round(dn, inv[k], Round::RDN, &fl[2]);
+      T r_n = inv[k], r_f = inv[k];
+      if (mode == BoxMode::DConservative) {
+        // r in [ra, rb] (same sign as inv): the product's lower bound takes ra for x >= 0 and rb
+        // for x < 0, its upper bound the opposite (x = the directed difference; its sign bit).
+        T ra, rb;
+        reciprocal_bounds(inv[k], ra, rb);
+        r_n = fp_signbit(dn) ? rb : ra;
+        r_f = fp_signbit(df) ? ra : rb;
+      }
+      tn[k] = fp_mul_round(dn, r_n, Round::RDN, &fl[2]);
       tn[k] = ftz_bound(tn[k], fl[2], Round::RDN);
-      tf[k] = fp_mul_round(df, inv[k], Round::RUP, &fl[3]);
+      tf[k] = fp_mul_round(df, r_f, Round::RUP, &fl[3]);
       tf[k] = ftz_bound(tf[k], fl[3], Round::RUP);
     }
   }

@@ -84,6 +84,11 @@ struct BoxCell {
   uint64_t exact_hits = 0, records = 0;
   uint64_t plain_false_miss = 0, plain_false_hit = 0;
   uint64_t cons_false_miss = 0, cons_false_hit = 0;
+  // Against the ray direction d (box_record_direction; oracle exact_slab_dir): the unit is given
+  // inv = RNE(1/d) in the format, as the renderer computes it. dcons = BoxMode::DConservative.
+  uint64_t dir_records = 0, dir_exact_hits = 0;
+  uint64_t dir_plain_false_miss = 0, dir_plain_false_hit = 0, dir_cons_false_miss = 0, dir_cons_false_hit = 0;
+  uint64_t dir_dcons_false_miss = 0, dir_dcons_false_hit = 0;
   ru::num::SoftStats flags;
   double seconds = 0;
 };
@@ -93,5 +98,10 @@ struct BoxStudyOptions {
   std::function<void(size_t done, size_t total, const BoxCell&)> progress;
 };
 std::vector<BoxCell> study_box(const std::vector<BoxRecord>& recs, const BoxStudyOptions& opt);
+
+// The direction a box record stands for in the current Soft format (SoftScope): d_k = the
+// format's value nearest 1/inv_k (inv_k = +-INF: d_k = +-0), and the reciprocal the renderer
+// gives the unit, inv_k = RNE(1/d_k) computed in the format. false if some d_k is not finite.
+bool box_record_direction(const BoxRecord& r, Vec3<ru::num::Soft>& d, Vec3<ru::num::Soft>& inv);
 
 }  // namespace ru::units
