@@ -45,11 +45,15 @@ TEST(UtilParallel, OneThreadRunsOnTheCallerInOrder) {
 }
 
 TEST(UtilParallel, FirstExceptionIsRethrownAndStopsTheHandout) {
+  // Jobs after 10 take 1 ms each, so the other workers cannot race through the whole range in the
+  // moment between job 10's throw and the stop of the handout (without it this test was flaky on
+  // a loaded machine: all 100,000 trivial jobs ran while the throwing worker was descheduled).
   std::atomic<int> ran{0};
   EXPECT_THROW(parallel_for(100000, 3,
                             [&](size_t i) {
                               ++ran;
                               if (i == 10) throw std::runtime_error("job 10");
+                              if (i > 10) std::this_thread::sleep_for(std::chrono::milliseconds(1));
                             }),
                std::runtime_error);
   EXPECT_LT(ran.load(), 100000);
