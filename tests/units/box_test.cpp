@@ -246,18 +246,24 @@ std::vector<BoxRecord> adversarial(const Format& f, uint64_t seed, size_t n) {
   return out;
 }
 
-struct BoxCounts {
-  size_t exact_hits = 0, cons_false_miss = 0, plain_false_miss = 0, plain_false_hit = 0;
-};
-
-BoxCounts check_format(const Format& f, size_t n, uint64_t seed, BoxMode cons_mode, bool report = true) {
-  BoxCounts c;
+// The property tests' workload: synthetic pairs plus the adversarial ones above.
+std::vector<BoxRecord> property_workload(const Format& f, size_t n, uint64_t seed) {
   SynthBoxOptions so;
   so.boxes = n / 16;
   so.seed = seed;
   auto recs = synth_box(so);
   auto adv = adversarial(f, seed + 1, n);
   recs.insert(recs.end(), adv.begin(), adv.end());
+  return recs;
+}
+
+struct BoxCounts {
+  size_t exact_hits = 0, cons_false_miss = 0, plain_false_miss = 0, plain_false_hit = 0;
+};
+
+BoxCounts check_format(const Format& f, size_t n, uint64_t seed, BoxMode cons_mode, bool report = true) {
+  BoxCounts c;
+  const std::vector<BoxRecord> recs = property_workload(f, n, seed);
   SoftScope sc(f);
   for (const BoxRecord& rec : recs) {
     const Vec3<Soft> o = vcast<Soft>(rec.o), inv = vcast<Soft>(rec.inv), lo = vcast<Soft>(rec.lo),
@@ -314,12 +320,7 @@ struct DirCounts {
 
 DirCounts check_format_dir(const Format& f, size_t n, uint64_t seed, BoxMode mode, bool report = true) {
   DirCounts c;
-  SynthBoxOptions so;
-  so.boxes = n / 16;
-  so.seed = seed;
-  auto recs = synth_box(so);
-  auto adv = adversarial(f, seed + 1, n);
-  recs.insert(recs.end(), adv.begin(), adv.end());
+  const std::vector<BoxRecord> recs = property_workload(f, n, seed);
   SoftScope sc(f);
   for (const BoxRecord& rec : recs) {
     const Vec3<Soft> o = vcast<Soft>(rec.o), lo = vcast<Soft>(rec.lo), hi = vcast<Soft>(rec.hi);
