@@ -10,7 +10,7 @@
 //              (every input, hit or not; a NaN slab bound (0*INF: the origin on a slab plane
 //              of a ray parallel to it) is ignored by minNum/maxNum).
 // Parameters: ExpW, FracW, Subnormals, Round (the format); Stages (latency, registers placed
-// by ru_pipe_pkg on the chain add - mul - cmp - cmp - cmp); OptConservative:
+// by ru_pipe_pkg on the chain add - mul - cmp - cmp - cmp); OptConservative (0, 1, 2):
 //   0  plain:  tn_k = (near_k - o_k) * inv_k, tf_k = (far_k - o_k) * inv_k, rounded with Round;
 //   1  conservative (never misses a box the exact slab test hits):
 //        dn_k = (near_k - o_k) rounded RUP if inv_k < 0 else RDN,  tn_k = RDN(dn_k * inv_k)
@@ -26,6 +26,15 @@
 //      (Subnormals = 0): a directed result flushed to a zero on the wrong side (underflow flag,
 //      zero result, -0 from RDN / +0 from RUP) is replaced by the smallest normal of its sign
 //      (ru::units::ftz_bound); with subnormals such a result cannot occur, so no logic is built.
+//   2  d-conservative (issue 14 section 4; never misses a box that the exact slab test hits
+//      for the ray direction d itself, when rdir_i = RNE(1/d) in the format): as 1, but the
+//      true 1/d is only known to lie in [a_k, b_k] = inv_k's neighbours in the format, clamped
+//      at inv_k's zero and at infinity (ru::units::reciprocal_bounds), and each product takes
+//      the end that gives its bound:
+//        tn_k = RDN(dn_k * (dn_k < 0 ? b_k : a_k)),  tf_k = RUP(df_k * (df_k < 0 ? a_k : b_k))
+//      (the sign bit of the difference selects). a_k, b_k are an incrementer and a decrementer
+//      on inv_k's magnitude, computed beside the subtracters (off their path); the cost is the
+//      two incrementers, the second operand register of each multiplier pair and a mux.
 // Fully pipelined: one test per cycle, out_valid_o = in_valid_i delayed by Stages cycles.
 //
 // Dataflow in 5 levels (6 sub, 6 mul, 7 compares):
@@ -66,6 +75,7 @@ module ru_ray_box #(
   localparam int unsigned V3 = 3 * W;
   localparam int unsigned RDN = 2;
   localparam int unsigned RUP = 3;
+  localparam bit DCons = OptConservative == 2;
   localparam int unsigned RoundN = (OptConservative != 0) ? RDN : Round;  // tn_k side
   localparam int unsigned RoundF = (OptConservative != 0) ? RUP : Round;  // tf_k side
   localparam logic [W-1:0] PosInf = {1'b0, {ExpW{1'b1}}, {FracW{1'b0}}};
@@ -134,13 +144,44 @@ module ru_ray_box #(
       .clk_i, .rst_ni, .in_valid_i, .a_i(xf[k*W+:W]), .b_i(yf[k*W+:W]), .op_i(1'b1),
       .out_valid_o(v0[2*k+1]), .y_o(df_r[k*W+:W]), .flags_o(df_fl[k*5+:5]));
   end
-  logic [V3-1:0] inv1;
+  // reciprocal bounds [a_k, b_k] of 1/d (OptConservative 2): magnitudes one step away from and
+  // towards zero in the format, clamped at zero and infinity (a NaN gives itself twice; it
+  // already makes the result a miss).
+  localparam logic [W-2:0] MagInf = {{ExpW{1'b1}}, {FracW{1'b0}}};
+  localparam logic [W-2:0] MagMinN = {{(ExpW - 1){1'b0}}, 1'b1, {FracW{1'b0}}};
+  logic [V3-1:0] ra0, rb0;
+  always_comb begin
+    for (int unsigned k = 0; k < 3; k++) begin
+      logic [W-2:0] mag, away, toward;
+      mag = rdir_i[k*W+:W-1];
+      if (mag == MagInf || f_nan(mag)) away = mag;
+      else if (mag == '0 && Subnormals == 0) away = MagMinN;
+      else away = mag + 1'b1;
+      if (f_nan(mag)) toward = mag;
+      else if (mag == '0 || (mag == MagMinN && Subnormals == 0)) toward = '0;
+      else toward = mag - 1'b1;
+      ra0[k*W+:W] = {neg0[k], neg0[k] ? away : toward};
+      rb0[k*W+:W] = {neg0[k], neg0[k] ? toward : away};
+    end
+  end
+
+  logic [V3-1:0] ra1, rb1;
   logic [2:0]    neg1;
-  ru_pipe #(.Width(V3 + 3), .Depth(lat(0))) u_wait0 (
-    .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[0]), .data_i({rdir_i, neg0}), .data_o({inv1, neg1}));
+  if (DCons) begin : gen_wait0_d
+    ru_pipe #(.Width(2 * V3 + 3), .Depth(lat(0))) u_wait0 (
+      .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[0]), .data_i({ra0, rb0, neg0}),
+      .data_o({ra1, rb1, neg1}));
+  end else begin : gen_wait0
+    ru_pipe #(.Width(V3 + 3), .Depth(lat(0))) u_wait0 (
+      .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[0]), .data_i({rdir_i, neg0}),
+      .data_o({ra1, neg1}));
+    assign rb1 = ra1;
+    logic unused_rab0;
+    assign unused_rab0 = ^{ra0, rb0};
+  end
 
   // ---- L1: slab bounds --------------------------------------------------------------------------
-  logic [V3-1:0] dn, df;
+  logic [V3-1:0] dn, df, rn, rf;  // multiplier operands
   always_comb begin
     for (int unsigned k = 0; k < 3; k++) begin
       dn[k*W+:W] = dn_r[k*W+:W];
@@ -153,6 +194,9 @@ module ru_ray_box #(
         if (neg1[k] && !f_nan(dn[k*W+:W-1])) dn[k*W+W-1] = ~dn[k*W+W-1];
         if (neg1[k] && !f_nan(df[k*W+:W-1])) df[k*W+W-1] = ~df[k*W+W-1];
       end
+      // plain and conservative: ra1 = rb1 = inv
+      rn[k*W+:W] = dn[k*W+W-1] ? rb1[k*W+:W] : ra1[k*W+:W];
+      rf[k*W+:W] = df[k*W+W-1] ? ra1[k*W+:W] : rb1[k*W+:W];
     end
   end
 
@@ -162,11 +206,11 @@ module ru_ray_box #(
   for (genvar k = 0; k < 3; k++) begin : gen_mul
     ru_fp_mul #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(1)), .Subnormals(Subnormals),
                 .Round(RoundN), .CutSel(lcut(1))) u_mul_n (
-      .clk_i, .rst_ni, .in_valid_i(v0[0]), .a_i(dn[k*W+:W]), .b_i(inv1[k*W+:W]),
+      .clk_i, .rst_ni, .in_valid_i(v0[0]), .a_i(dn[k*W+:W]), .b_i(rn[k*W+:W]),
       .out_valid_o(v1[2*k]), .y_o(tn_r[k*W+:W]), .flags_o(tn_fl[k*5+:5]));
     ru_fp_mul #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(1)), .Subnormals(Subnormals),
                 .Round(RoundF), .CutSel(lcut(1))) u_mul_f (
-      .clk_i, .rst_ni, .in_valid_i(v0[0]), .a_i(df[k*W+:W]), .b_i(inv1[k*W+:W]),
+      .clk_i, .rst_ni, .in_valid_i(v0[0]), .a_i(df[k*W+:W]), .b_i(rf[k*W+:W]),
       .out_valid_o(v1[2*k+1]), .y_o(tf_r[k*W+:W]), .flags_o(tf_fl[k*5+:5]));
   end
   logic [W-1:0] tmin2, tmax2;

@@ -98,8 +98,12 @@ def make_runs():
     """The run list, highest priority first."""
     runs = []
 
-    def ends(unit, fmt, s, split=False):
-        base = dict(unit=unit, fmt=fmt, stages=s, timeout=timeout_for(unit, fmt), point=pname(unit, fmt, s))
+    def ends(unit, fmt, s, split=False, params=None):
+        # params: RTL options (--param NAME=V), named in the point (ray_box_e8m23_s0_OptConservative2)
+        tag = "".join(f"_{k}{v}" for k, v in (params or {}).items())
+        base = dict(unit=unit, fmt=fmt, stages=s, timeout=timeout_for(unit, fmt), point=pname(unit, fmt, s) + tag)
+        if params:
+            base["extra"] = [a for k, v in params.items() for a in ("--param", f"{k}={v}")]
         if split:  # the big units: the relaxed (area) end first, each its own run
             runs.append(dict(base, kind="ends", name=base["point"] + ".relaxed", clocks=[RELAXED_PS], big=True))
             runs.append(dict(base, kind="ends", name=base["point"] + ".fast", clocks=[FAST_PS], big=True))
@@ -145,6 +149,10 @@ def make_runs():
     ends("ray_box", "e8m23", 0)
     ends("ray_box", "e8m23", 7)
     ends("ray_box", "e8m23", 26)
+    # the conservative (1) and d-conservative (2) slab tests (issue 14 section 4): their cost
+    for mode in (1, 2):
+        for s in (0, 7):
+            ends("ray_box", "e8m23", s, params={"OptConservative": mode})
     tri = len(runs)
     ends("ray_tri_mt", "e8m23", 0, split=True)
     ends("ray_tri_robust", "e8m23", 0, split=True)

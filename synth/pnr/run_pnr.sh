@@ -36,6 +36,11 @@
 #   --graywolf-fast N  TimberWolfSC "fast" parameter (layout/TOP.par: TWSC*fast : N): the
 #                      annealer tries N times fewer moves per temperature (default 0 = qflow's
 #                      setting). 46,760 cells of the noise unit take ~4 h at the default here.
+#   --graywolf-no-global-route
+#                      TWSC*do.global.route : off — skip TimberWolfSC's own global router
+#                      (row spacing and track estimate; feedthroughs are ignored by qflow's
+#                      osu018 setting anyway) and leave all routing to qrouter. For the noise
+#                      unit it ran > 100 min after a 25 min placement without finishing.
 #   --no-checks        skip migrate, drc, lvs and gdsii
 #   --until STEP       stop after STEP (the report is still written)
 #   -h, --help         this text
@@ -50,7 +55,7 @@ techdir=/usr/share/qflow/tech/$tech
 die() { echo "$prog: error: $*" >&2; exit 2; }
 usage() { sed -n '2,/^set -u/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'; }
 
-clock_ns=10 work= out= rayunits= step_timeout=14400 niceness=10 redo= fresh=0 checks=1 until= gw_fast=0
+clock_ns=10 work= out= rayunits= step_timeout=14400 niceness=10 redo= fresh=0 checks=1 until= gw_fast=0 gw_groute=on
 while [ $# -gt 0 ]; do
   case "$1" in
     --clock-ns) [ $# -ge 2 ] || die "--clock-ns needs a value"; clock_ns=$2; shift 2 ;;
@@ -62,10 +67,11 @@ while [ $# -gt 0 ]; do
     --redo) [ $# -ge 2 ] || die "--redo needs a value"; redo=$2; shift 2 ;;
     --until) [ $# -ge 2 ] || die "--until needs a value"; until=$2; shift 2 ;;
     --graywolf-fast) [ $# -ge 2 ] || die "--graywolf-fast needs a value"; gw_fast=$2; shift 2 ;;
+    --graywolf-no-global-route) gw_groute=off; shift ;;
     --fresh) fresh=1; shift ;;
     --no-checks) checks=0; shift ;;
     -h|--help) usage; exit 0 ;;
-    --*) die "unknown option $1 (accepted: --clock-ns --work --out --rayunits --step-timeout --nice --redo --until --graywolf-fast --fresh --no-checks --help)" ;;
+    --*) die "unknown option $1 (accepted: --clock-ns --work --out --rayunits --step-timeout --nice --redo --until --graywolf-fast --graywolf-no-global-route --fresh --no-checks --help)" ;;
     *) break ;;
   esac
 done
@@ -281,11 +287,12 @@ step_place() {
   [ -f layout/$top.par ] || cp "$techdir/$tech.par" layout/$top.par
   sed -i '/^TWSC\*fast/d' layout/$top.par
   [ "$gw_fast" = 0 ] || echo "TWSC*fast : $gw_fast" >> layout/$top.par
+  sed -i "s/^TWSC\*do\.global\.route.*/TWSC*do.global.route  : $gw_groute/" layout/$top.par
   qf place place.log || return $?
   cp layout/$top.par keep/graywolf.par
   [ ! -f layout/$top.out ] || grep -E '^ *-?[0-9]+: [0-9.e+]+ ' layout/$top.out > keep/graywolf_iterations.txt
 }
-run_step place "graywolf_fast=$gw_fast" synthesize -- step_place
+run_step place "graywolf_fast=$gw_fast groute=$gw_groute" synthesize -- step_place
 run_step sta "clock=$clock_ns" place -- step_sta
 run_step route 1 place -- qf route route.log
 run_step backanno "clock=$clock_ns" route -- step_backanno
@@ -317,8 +324,9 @@ cat > "$work/meta.json" <<EOF
   "library": "osu018 (OSU 0.18 um standard cells, qflow-tech-osu018 $(ver qflow-tech-osu018))",
   "clock_ns": $clock_ns,
   "graywolf_fast": $gw_fast,
+  "graywolf_global_route": "$gw_groute",
   "clock_target_mhz": $(awk "BEGIN{printf \"%.1f\", 1000/$clock_ns}"),
-  "command": "synth/pnr/run_pnr.sh --clock-ns $clock_ns$( [ "$gw_fast" = 0 ] || echo " --graywolf-fast $gw_fast") $config",
+  "command": "synth/pnr/run_pnr.sh --clock-ns $clock_ns$( [ "$gw_fast" = 0 ] || echo " --graywolf-fast $gw_fast")$( [ "$gw_groute" = on ] || echo " --graywolf-no-global-route") $config",
   "tools": {"qflow": "$(ver qflow)", "yosys": "$(ver yosys)", "graywolf": "$(ver graywolf)",
             "qrouter": "$(ver qrouter)", "magic": "$(ver magic)", "netgen-lvs": "$(ver netgen-lvs)",
             "opensta": "$(ver opensta)", "vesta": "qflow $(ver qflow)"},

@@ -33,7 +33,8 @@ struct RayConfig {
   Unit unit = Unit::Box;
   ru::num::Format f;       // ExpW, FracW, Subnormals, Round
   int stages = 0;          // = the unit's latency
-  bool conservative = false;   // ray_box OptConservative
+  bool conservative = false;   // ray_box OptConservative != 0 (directed rounding)
+  bool dcons = false;          // ray_box OptConservative == 2 (conservative against d)
   bool tie_break = false;      // ray_tri_robust OptTieBreak
   bool eps_test = false;       // OptEpsTest
   uint64_t eps_bits = 0;       // EpsBits
@@ -48,7 +49,8 @@ enum class Mutant : uint8_t {
   None,
   Rounding,      // the model rounds toward zero instead of to nearest (every op)
   InputLsb,      // the model sees the least significant bit of one input flipped
-  ModeSwap,      // ray_box: plain <-> conservative; ray_tri_robust: tie-break toggled
+  ModeSwap,      // ray_box: plain <-> conservative, d-conservative -> conservative;
+                 // ray_tri_robust: tie-break toggled
 };
 const char* mutant_name(Mutant m);
 

@@ -51,7 +51,10 @@ RayConfig ray_config(const ConfigDesc& cfg) {
   c.f.round = static_cast<ru::num::Round>(r);
   c.f.validate();
   c.stages = static_cast<int>(cfg.param("Stages", 0));
-  c.conservative = cfg.param("OptConservative", 0) != 0;
+  const int64_t cons = cfg.param("OptConservative", 0);
+  if (cons < 0 || cons > 2) throw std::runtime_error(cfg.full_name() + ": OptConservative must be 0..2");
+  c.conservative = cons != 0;
+  c.dcons = cons == 2;
   c.tie_break = cfg.param("OptTieBreak", 0) != 0;
   c.eps_test = cfg.param("OptEpsTest", 0) != 0;
   c.eps_bits = static_cast<uint64_t>(cfg.param("EpsBits", 0)) & c.f.mask();
@@ -63,7 +66,7 @@ std::string describe(const RayConfig& c) {
   std::ostringstream os;
   os << (c.unit == Unit::Box ? "ray_box" : c.unit == Unit::Robust ? "ray_tri_robust" : "ray_tri_mt") << " "
      << c.f.name() << " " << ru::num::round_name(c.f.round) << " Stages=" << c.stages;
-  if (c.conservative) os << " conservative";
+  if (c.conservative) os << (c.dcons ? " d-conservative" : " conservative");
   if (c.tie_break) os << " tie-break";
   if (c.eps_test) os << " eps=" << hex(c.eps_bits, c.f.width());
   if (c.vol_out) os << " vol_out";
@@ -182,13 +185,14 @@ void RayAdapter::read(Record& out) {
 void RayAdapter::model(const Record& in0, Record& out) {
   Record in = in0;
   Format f = c_.f;
-  bool conservative = c_.conservative, tie = c_.tie_break;
+  bool conservative = c_.conservative, dcons = c_.dcons, tie = c_.tie_break;
   switch (mut_) {
     case Mutant::None: break;
     case Mutant::Rounding: f.round = ru::num::Round::RTZ; break;
     case Mutant::InputLsb: in.v[4] ^= 1; break;  // rdir.y / d.y
     case Mutant::ModeSwap:
-      conservative = !conservative;
+      conservative = dcons || !conservative;
+      dcons = false;
       tie = !tie;
       break;
   }
@@ -196,8 +200,9 @@ void RayAdapter::model(const Record& in0, Record& out) {
   auto S = [&](int i) { return Soft::from_bits(in.v[i]); };
   auto V = [&](int i) { return Vec3<Soft>{S(i), S(i + 1), S(i + 2)}; };
   if (c_.unit == Unit::Box) {
+    using ru::units::BoxMode;
     const auto r = ru::units::ray_box(V(0), V(3), V(6), V(9), S(12), S(13),
-                                      conservative ? ru::units::BoxMode::Conservative : ru::units::BoxMode::Plain);
+                                      dcons ? BoxMode::DConservative : conservative ? BoxMode::Conservative : BoxMode::Plain);
     out.v[0] = r.hit;
     out.v[1] = r.t_enter.bits;
     out.v[2] = r.t_exit.bits;
@@ -299,7 +304,15 @@ void box_coverage(const RayConfig& c, const Record& in, Mix& m) {
       };
       ru::num::Result d = ru::num::sub(fs, plane, o);
       if (c.conservative && wrong(d, fs.round)) fix = true, d.bits = f.min_normal((d.bits & f.sign_bit()) != 0);
-      ru::num::Result t = ru::num::mul(fm, d.bits, inv);
+      uint64_t r = inv;  // d-conservative: the end of reciprocal_bounds(inv) the model takes
+      if (c.dcons) {
+        ru::num::SoftScope scope(f);
+        Soft a, b;
+        ru::units::reciprocal_bounds(Soft::from_bits(inv), a, b);
+        const bool dneg = (d.bits & f.sign_bit()) != 0;
+        r = (side ? !dneg : dneg) ? b.bits : a.bits;
+      }
+      ru::num::Result t = ru::num::mul(fm, d.bits, r);
       if (c.conservative && wrong(t, fm.round)) fix = true;
       if (ru::num::is_nan(f, t.bits) && !ru::num::is_nan(f, plane) && !ru::num::is_nan(f, o) &&
           !ru::num::is_nan(f, inv))

@@ -106,7 +106,9 @@ std::vector<UnitSpec> make_units() {
     s.summary = "ray-box slab test (Williams et al.), optional conservative directed rounding";
     s.filelist = "ru_ray_box.f";
     s.params = fp_params();
-    s.extra_params = {{"OptConservative", 0, 0, 1, "1: t_enter rounded down, t_exit up (never a false miss)"}};
+    s.extra_params = {{"OptConservative", 0, 0, 2,
+                       "1: t_enter rounded down, t_exit up (never a false miss); 2: also conservative "
+                       "against d when rdir_i = RNE(1/d)"}};
     s.ports = control_ports();
     for (PortSpec p : {in("org_i", "3*W", "ray origin {z, y, x}"), in("rdir_i", "3*W", "reciprocal direction {z, y, x}"),
                        in("tmin_i", "W", "t_min"), in("tmax_i", "W", "t_max"),
