@@ -17,7 +17,12 @@
 //   OptTieBreak  1: when V_i is exactly zero, the triangle for which p_{i+1} is the
 //                lexicographically smaller end point of the edge misses (Fig. 3.6's test);
 //   OptEpsTest   1: |V| < eps misses, eps = EpsBits (a bit pattern of the format);
-//   OptVolOut    1: drive vol_o (delay lines for the five volumes).
+//   OptVolOut    1: drive vol_o (delay lines for the five volumes);
+//   OptRecip     1: the cheaper variant ru::units::ray_tri_robust_recip (issue 14 section 3):
+//                one reciprocal r = 1/V and three multiplications t = Va*r, beta = V1*r,
+//                gamma = V2*r in place of the three divisions (level L6 div becomes L6 div
+//                (one divider) + L7 mul; the compares move to L8; MaxUsefulStages grows by the
+//                multiplier's L+5 segments).
 // Fully pipelined: one test per cycle, out_valid_o = in_valid_i delayed by Stages cycles.
 //
 // Dataflow (operation for operation the model's; 39 mul, 43 add/sub, 3 div), in 8 levels:
@@ -47,7 +52,8 @@ module ru_ray_tri_robust #(
   parameter int unsigned OptTieBreak = 0,
   parameter int unsigned OptEpsTest = 0,
   parameter EpsBits = 0,  // untyped: -GEpsBits=<decimal> works for any width
-  parameter int unsigned OptVolOut = 0
+  parameter int unsigned OptVolOut = 0,
+  parameter int unsigned OptRecip = 0
 ) (
   input  logic                      clk_i,
   input  logic                      rst_ni,
@@ -73,14 +79,19 @@ module ru_ray_tri_robust #(
   localparam logic [W-1:0] Eps = W'(EpsBits);
 
   // ---- register placement (ru_pipe_pkg) -----------------------------------------------
-  localparam int unsigned NLev = 8;
+  localparam int unsigned R = (OptRecip != 0) ? 1 : 0;
+  localparam int unsigned LCmp = 7 + R;  // level of the interval compares
+  localparam int unsigned NLev = 8 + R;
   // level kinds, level 0 in the low nibble: add mul add mul add add div cmp
-  localparam logic [4*ru_pipe_pkg::MaxLev-1:0] Kinds = {32'd0, ru_fp_pkg::KCmp, ru_fp_pkg::KDiv,
-      ru_fp_pkg::KAdd, ru_fp_pkg::KAdd, ru_fp_pkg::KMul, ru_fp_pkg::KAdd,
-      ru_fp_pkg::KMul, ru_fp_pkg::KAdd};
+  // (OptRecip: add mul add mul add add div mul cmp)
+  localparam logic [31:0] KindsL0to5 = {8'd0, ru_fp_pkg::KAdd, ru_fp_pkg::KAdd, ru_fp_pkg::KMul,
+      ru_fp_pkg::KAdd, ru_fp_pkg::KMul, ru_fp_pkg::KAdd};
+  localparam logic [4*ru_pipe_pkg::MaxLev-1:0] Kinds = (R != 0)
+      ? {28'd0, ru_fp_pkg::KCmp, ru_fp_pkg::KMul, ru_fp_pkg::KDiv, KindsL0to5[23:0]}
+      : {32'd0, ru_fp_pkg::KCmp, ru_fp_pkg::KDiv, KindsL0to5[23:0]};
   `include "ru_level_chain.svh"
   // data-only delay lines (ru_pipe; the level instances carry the valid bits)
-  logic [14:0] unused_dly_valid;
+  logic [16:0] unused_dly_valid;
 
   // ---- L0: edges, differences to a, lexicographic order of the edges' end points ---------------
   logic [V3-1:0] e0, e1, e2, ap0, ap1, ap2, p2a;
@@ -171,11 +182,11 @@ module ru_ray_tri_robust #(
   ru_pipe #(.Width(V3), .Depth(span(1, 3))) u_wait12_e2 (.clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[3]), .data_i(e2), .data_o(e2_2));
   ru_pipe #(.Width(V3), .Depth(span(1, 3))) u_wait12_pa (.clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[4]), .data_i(p2a), .data_o(p2a_2));
   ru_pipe #(.Width(V3), .Depth(span(1, 3))) u_wait12_d (.clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[5]), .data_i(d1), .data_o(d_2));
-  // t_min, t_max wait for L0..L6
+  // t_min, t_max wait for L0..L6 (L0..L7 with OptRecip)
   logic [W-1:0] tmin7, tmax7;
-  ru_pipe #(.Width(W), .Depth(span(0, 7))) u_wait_tmin (
+  ru_pipe #(.Width(W), .Depth(span(0, LCmp))) u_wait_tmin (
     .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[6]), .data_i(tmin_i), .data_o(tmin7));
-  ru_pipe #(.Width(W), .Depth(span(0, 7))) u_wait_tmax (
+  ru_pipe #(.Width(W), .Depth(span(0, LCmp))) u_wait_tmax (
     .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[7]), .data_i(tmax_i), .data_o(tmax7));
 
   // ---- L3..L5: the five volumes --------------------------------------------------------------
@@ -208,22 +219,53 @@ module ru_ray_tri_robust #(
     .clk_i, .rst_ni, .valid_i(v2[0]), .u_i(nrm), .v_i(p2a_2), .valid_o(v5[4]), .y_o(vol_va),
     .flags_o(unused_dot_flags[4*5+:5]));
 
-  // ---- L6: divisions; beside them the sign logic and |V| < eps -------------------------------
+  // ---- L6: divisions (OptRecip: one reciprocal, then L7 multiplications); beside them the
+  // sign logic and |V| < eps ------------------------------------------------------------------
   logic [W-1:0] q_t, q_beta, q_gamma;
   logic [2:0]   v6;
-  logic [14:0]  unused_div_flags;
-  ru_fp_div #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(6)), .Subnormals(Subnormals), .Round(Round),
-              .CutSel(lcut(6))) u_div_t (
-    .clk_i, .rst_ni, .in_valid_i(v5[0]), .a_i(vol_va), .b_i(vol_v),
-    .out_valid_o(v6[0]), .y_o(q_t), .flags_o(unused_div_flags[0+:5]));
-  ru_fp_div #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(6)), .Subnormals(Subnormals), .Round(Round),
-              .CutSel(lcut(6))) u_div_beta (
-    .clk_i, .rst_ni, .in_valid_i(v5[0]), .a_i(vol_v1), .b_i(vol_v),
-    .out_valid_o(v6[1]), .y_o(q_beta), .flags_o(unused_div_flags[5+:5]));
-  ru_fp_div #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(6)), .Subnormals(Subnormals), .Round(Round),
-              .CutSel(lcut(6))) u_div_gamma (
-    .clk_i, .rst_ni, .in_valid_i(v5[0]), .a_i(vol_v2), .b_i(vol_v),
-    .out_valid_o(v6[2]), .y_o(q_gamma), .flags_o(unused_div_flags[10+:5]));
+  if (R == 0) begin : gen_div3
+    logic [14:0]  unused_div_flags;
+    ru_fp_div #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(6)), .Subnormals(Subnormals), .Round(Round),
+                .CutSel(lcut(6))) u_div_t (
+      .clk_i, .rst_ni, .in_valid_i(v5[0]), .a_i(vol_va), .b_i(vol_v),
+      .out_valid_o(v6[0]), .y_o(q_t), .flags_o(unused_div_flags[0+:5]));
+    ru_fp_div #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(6)), .Subnormals(Subnormals), .Round(Round),
+                .CutSel(lcut(6))) u_div_beta (
+      .clk_i, .rst_ni, .in_valid_i(v5[0]), .a_i(vol_v1), .b_i(vol_v),
+      .out_valid_o(v6[1]), .y_o(q_beta), .flags_o(unused_div_flags[5+:5]));
+    ru_fp_div #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(6)), .Subnormals(Subnormals), .Round(Round),
+                .CutSel(lcut(6))) u_div_gamma (
+      .clk_i, .rst_ni, .in_valid_i(v5[0]), .a_i(vol_v2), .b_i(vol_v),
+      .out_valid_o(v6[2]), .y_o(q_gamma), .flags_o(unused_div_flags[10+:5]));
+    assign unused_dly_valid[16:15] = 2'b0;
+  end else begin : gen_recip
+    localparam logic [W-1:0] One = {2'b00, {(ExpW - 1){1'b1}}, {FracW{1'b0}}};  // 1.0
+    logic [W-1:0]  rcp;
+    logic          v6r;
+    logic [19:0]   unused_rcp_flags;
+    logic [W-1:0]  va7, v17, v27;
+    ru_fp_div #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(6)), .Subnormals(Subnormals), .Round(Round),
+                .CutSel(lcut(6))) u_rcp (
+      .clk_i, .rst_ni, .in_valid_i(v5[0]), .a_i(One), .b_i(vol_v),
+      .out_valid_o(v6r), .y_o(rcp), .flags_o(unused_rcp_flags[0+:5]));
+    ru_pipe #(.Width(2 * W), .Depth(lat(6))) u_wait6_v (
+      .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[15]), .data_i({vol_v1, vol_v2}),
+      .data_o({v17, v27}));
+    ru_pipe #(.Width(W), .Depth(lat(6))) u_wait6_va (
+      .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[16]), .data_i(vol_va), .data_o(va7));
+    ru_fp_mul #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(7)), .Subnormals(Subnormals), .Round(Round),
+                .CutSel(lcut(7))) u_mul_t (
+      .clk_i, .rst_ni, .in_valid_i(v6r), .a_i(va7), .b_i(rcp),
+      .out_valid_o(v6[0]), .y_o(q_t), .flags_o(unused_rcp_flags[5+:5]));
+    ru_fp_mul #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(7)), .Subnormals(Subnormals), .Round(Round),
+                .CutSel(lcut(7))) u_mul_beta (
+      .clk_i, .rst_ni, .in_valid_i(v6r), .a_i(v17), .b_i(rcp),
+      .out_valid_o(v6[1]), .y_o(q_beta), .flags_o(unused_rcp_flags[10+:5]));
+    ru_fp_mul #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(7)), .Subnormals(Subnormals), .Round(Round),
+                .CutSel(lcut(7))) u_mul_gamma (
+      .clk_i, .rst_ni, .in_valid_i(v6r), .a_i(v27), .b_i(rcp),
+      .out_valid_o(v6[2]), .y_o(q_gamma), .flags_o(unused_rcp_flags[15+:5]));
+  end
 
   // Sign tests of V0..V2 against +0 (bit tests, see the header).
   function automatic logic f_nan(input logic [W-2:0] x);  // magnitude bits
@@ -266,7 +308,13 @@ module ru_ray_tri_robust #(
       .clk_i, .rst_ni, .in_valid_i(v5[0]),
       .a_i({1'b0, vol_v[W-2:0]}), .b_i(Eps), .op_i(3'd0),
       .out_valid_o(unused_eps_valid), .y_o(lt_y), .flags_o(unused_eps_flags));
-    assign small6 = lt_y[0];
+    if (R != 0) begin : gen_eps_wait
+      logic unused_eps_dly_valid;
+      ru_pipe #(.Width(1), .Depth(lat(7))) u_wait_eps (
+        .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_eps_dly_valid), .data_i(lt_y[0]), .data_o(small6));
+    end else begin : gen_eps_now
+      assign small6 = lt_y[0];
+    end
     logic [W-2:0] unused_eps_hi;
     assign unused_eps_hi = lt_y[W-1:1];
   end else begin : gen_no_eps
@@ -274,34 +322,34 @@ module ru_ray_tri_robust #(
   end
 
   logic mixed6, tie6;
-  ru_pipe #(.Width(2), .Depth(lat(6))) u_wait6 (
+  ru_pipe #(.Width(2), .Depth(span(6, LCmp))) u_wait6 (
     .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[9]), .data_i({mixed5, tie5}), .data_o({mixed6, tie6}));
 
-  // ---- L7: t_min < t < t_max ------------------------------------------------------------------
+  // ---- L7 (L8 with OptRecip): t_min < t < t_max -----------------------------------------------
   logic [W-1:0] lo_y, hi_y;
   logic [9:0]   unused_iv_flags;
   logic         unused_iv_valid;
-  ru_fp_cmp #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(7)), .Subnormals(Subnormals), .CutSel(lcut(7))) u_lo (
+  ru_fp_cmp #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(LCmp)), .Subnormals(Subnormals), .CutSel(lcut(LCmp))) u_lo (
     .clk_i, .rst_ni, .in_valid_i(v6[0]), .a_i(tmin7), .b_i(q_t), .op_i(3'd0),
     .out_valid_o(out_valid_o), .y_o(lo_y), .flags_o(unused_iv_flags[0+:5]));
-  ru_fp_cmp #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(7)), .Subnormals(Subnormals), .CutSel(lcut(7))) u_hi (
+  ru_fp_cmp #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(LCmp)), .Subnormals(Subnormals), .CutSel(lcut(LCmp))) u_hi (
     .clk_i, .rst_ni, .in_valid_i(v6[0]), .a_i(q_t), .b_i(tmax7), .op_i(3'd0),
     .out_valid_o(unused_iv_valid), .y_o(hi_y), .flags_o(unused_iv_flags[5+:5]));
   logic [2*W-3:0] unused_iv_hi;
   assign unused_iv_hi = {lo_y[W-1:1], hi_y[W-1:1]};
 
   logic mixed7, tie7, small7;
-  ru_pipe #(.Width(3), .Depth(lat(7))) u_wait7 (
+  ru_pipe #(.Width(3), .Depth(lat(LCmp))) u_wait7 (
     .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[10]), .data_i({mixed6, tie6, small6}), .data_o({mixed7, tie7, small7}));
-  ru_pipe #(.Width(W), .Depth(lat(7))) u_wait7_t (.clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[11]), .data_i(q_t), .data_o(t_o));
-  ru_pipe #(.Width(W), .Depth(lat(7))) u_wait7_b (.clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[12]), .data_i(q_beta), .data_o(beta_o));
-  ru_pipe #(.Width(W), .Depth(lat(7))) u_wait7_g (.clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[13]), .data_i(q_gamma), .data_o(gamma_o));
+  ru_pipe #(.Width(W), .Depth(lat(LCmp))) u_wait7_t (.clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[11]), .data_i(q_t), .data_o(t_o));
+  ru_pipe #(.Width(W), .Depth(lat(LCmp))) u_wait7_b (.clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[12]), .data_i(q_beta), .data_o(beta_o));
+  ru_pipe #(.Width(W), .Depth(lat(LCmp))) u_wait7_g (.clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[13]), .data_i(q_gamma), .data_o(gamma_o));
 
   // diagnostics: the volumes wait for L6 and L7
   if (OptVolOut != 0) begin : gen_vol
     logic [5*W-1:0] vols;
     assign vols = {vol_v2, vol_v1, vol_v0, vol_va, vol_v};
-    ru_pipe #(.Width(5 * W), .Depth(span(6, 8))) u_wait_vol (
+    ru_pipe #(.Width(5 * W), .Depth(span(6, NLev))) u_wait_vol (
       .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[14]), .data_i(vols), .data_o(vol_o));
   end else begin : gen_no_vol
     assign vol_o = '0;

@@ -158,6 +158,8 @@ def make_runs():
     ends("ray_tri_robust", "e8m23", 0, split=True)
     ends("ray_tri_mt", "e8m23", 33, split=True)
     ends("ray_tri_robust", "e8m23", 29, split=True)
+    # the one-reciprocal robust variant (issue 14 section 3) beside the literal one and MT
+    ends("ray_tri_robust", "e8m23", 0, split=True, params={"OptRecip": 1})
     ends("ray_box", "e7m16", 0)
     ends("ray_tri_mt", "e7m16", 0, split=True)
     ends("ray_tri_robust", "e7m16", 0, split=True)

@@ -39,6 +39,7 @@ struct RayConfig {
   bool eps_test = false;       // OptEpsTest
   uint64_t eps_bits = 0;       // EpsBits
   bool vol_out = false;        // OptVolOut
+  bool recip = false;          // ray_tri_robust OptRecip (ray_tri_robust_recip)
 };
 // Throws std::runtime_error / FormatError on a bad configuration.
 RayConfig ray_config(const ConfigDesc& cfg);
@@ -50,7 +51,7 @@ enum class Mutant : uint8_t {
   Rounding,      // the model rounds toward zero instead of to nearest (every op)
   InputLsb,      // the model sees the least significant bit of one input flipped
   ModeSwap,      // ray_box: plain <-> conservative, d-conservative -> conservative;
-                 // ray_tri_robust: tie-break toggled
+                 // ray_tri_robust: tie-break and OptRecip toggled
 };
 const char* mutant_name(Mutant m);
 

@@ -20,6 +20,7 @@
 #include "rayunits/num/fp.hpp"
 #include "rayunits/tb/testing.hpp"
 #include "rayunits/units/ray_box.hpp"
+#include "rayunits/units/ray_tri_cheap.hpp"
 
 namespace ru::tb::ray {
 
@@ -59,6 +60,7 @@ RayConfig ray_config(const ConfigDesc& cfg) {
   c.eps_test = cfg.param("OptEpsTest", 0) != 0;
   c.eps_bits = static_cast<uint64_t>(cfg.param("EpsBits", 0)) & c.f.mask();
   c.vol_out = cfg.param("OptVolOut", 0) != 0;
+  c.recip = cfg.param("OptRecip", 0) != 0;
   return c;
 }
 
@@ -70,6 +72,7 @@ std::string describe(const RayConfig& c) {
   if (c.tie_break) os << " tie-break";
   if (c.eps_test) os << " eps=" << hex(c.eps_bits, c.f.width());
   if (c.vol_out) os << " vol_out";
+  if (c.recip) os << " recip";
   return os.str();
 }
 
@@ -185,7 +188,7 @@ void RayAdapter::read(Record& out) {
 void RayAdapter::model(const Record& in0, Record& out) {
   Record in = in0;
   Format f = c_.f;
-  bool conservative = c_.conservative, dcons = c_.dcons, tie = c_.tie_break;
+  bool conservative = c_.conservative, dcons = c_.dcons, tie = c_.tie_break, recip = c_.recip;
   switch (mut_) {
     case Mutant::None: break;
     case Mutant::Rounding: f.round = ru::num::Round::RTZ; break;
@@ -194,6 +197,7 @@ void RayAdapter::model(const Record& in0, Record& out) {
       conservative = dcons || !conservative;
       dcons = false;
       tie = !tie;
+      recip = !recip;
       break;
   }
   ru::num::SoftScope scope(f);
@@ -212,8 +216,9 @@ void RayAdapter::model(const Record& in0, Record& out) {
   opt.tie_break = tie;
   opt.eps_test = c_.eps_test;
   opt.eps = ru::num::to_double(c_.f, c_.eps_bits);
-  const auto r = c_.unit == Unit::Robust ? ru::units::ray_tri_robust(V(0), V(3), V(6), V(9), V(12), S(15), S(16), opt)
-                                         : ru::units::ray_tri_mt(V(0), V(3), V(6), V(9), V(12), S(15), S(16), opt);
+  const auto r = c_.unit == Unit::Mt ? ru::units::ray_tri_mt(V(0), V(3), V(6), V(9), V(12), S(15), S(16), opt)
+                 : recip ? ru::units::ray_tri_robust_recip(V(0), V(3), V(6), V(9), V(12), S(15), S(16), opt)
+                         : ru::units::ray_tri_robust(V(0), V(3), V(6), V(9), V(12), S(15), S(16), opt);
   out.v[0] = r.hit;
   out.v[1] = static_cast<uint64_t>(r.why);
   out.v[2] = r.t.bits;

@@ -35,6 +35,9 @@ std::vector<UnitConfig> configs_of(const UnitSpec& u) {
   std::vector<UnitConfig> v;
   if (u.uses_format) {
     for (const char* f : {"e5m10", "e7m16", "e8m23"}) v.push_back(UnitConfig{Format::parse(f), 0, {}, {}});
+    // options that change the level chain (and so MaxUsefulStages)
+    for (const auto& p : u.extra_params)
+      if (p.name == "OptRecip") v.push_back(UnitConfig{Format::parse("e8m23"), 0, {{p.name, 1}}, {}});
   } else {
     v.push_back(UnitConfig{});
     UnitConfig c;

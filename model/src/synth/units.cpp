@@ -133,6 +133,8 @@ std::vector<UnitSpec> make_units() {
     s.extra_params.push_back({"OptEpsTest", 0, 0, 1, "miss when |V| < eps"});
     s.extra_params.push_back({"EpsBits", 0, 0, INT64_MAX, "eps as a bit pattern of the format"});
     s.extra_params.push_back({"OptVolOut", 0, 0, 1, "1: vol_o carries V, Va, V0..2 (else constant 0)"});
+    if (robust)
+      s.extra_params.push_back({"OptRecip", 0, 0, 1, "1: one reciprocal 1/V and three multiplications (issue 14)"});
     s.ports = control_ports();
     for (PortSpec p : {in("a_i", "3*W", "ray origin {z, y, x}"), in("d_i", "3*W", "ray direction {z, y, x}"),
                        in("p0_i", "3*W", "vertex {z, y, x}"), in("p1_i", "3*W", "vertex {z, y, x}"),
@@ -144,8 +146,9 @@ std::vector<UnitSpec> make_units() {
                        out("gamma_o", "W", "barycentric gamma"),
                        out("vol_o", "5*W", "{V2, V1, V0, Va, V} (OptVolOut)")})
       s.ports.push_back(std::move(p));
-    // robust: 4*6 + 2*(L+5) + (M+6) + 3 segments; MT: 5*6 + 3*(L+5) + (M+6) + 3; minus one
-    s.max_stages_expr = robust ? "2*L+M+42" : "3*L+M+53";
+    // robust: 4*6 + 2*(L+5) + (M+6) + 3 segments (OptRecip: + L+5 for the multiplications);
+    // MT: 5*6 + 3*(L+5) + (M+6) + 3; minus one
+    s.max_stages_expr = robust ? "2*L+M+42+OptRecip*(L+5)" : "3*L+M+53";
     u.push_back(std::move(s));
   }
   {
