@@ -50,8 +50,15 @@ def load():
     return rows
 
 
+# RTL options that make a different circuit of the same unit: such rows are keyed (and shown)
+# as "unit Option=V" (ray_box OptConservative=2, ray_tri_robust OptRecip=1).
+VARIANT_PARAMS = ("OptConservative", "OptRecip")
+
+
 def key(r):
-    return (r["unit"], r.get("format"), r["stages"])
+    p = r.get("params") or {}
+    var = " ".join(f"{k}={p[k]}" for k in VARIANT_PARAMS if p.get(k))
+    return (r["unit"] + (" " + var if var else ""), r.get("format"), r["stages"])
 
 
 def cell_rows(rows):
@@ -252,12 +259,12 @@ def ray_table(cr):
              "|---|---|---:|---:|---:|---:|---:|---:|---:|---|"]
     for u in RAY_UNITS:
         for f in ["e7m16", "e8m23"]:
-            for k in sorted(k for k in cr if k[0] == u and k[1] == f):
+            for k in sorted(k for k in cr if k[0].split()[0] == u and k[1] == f):
                 rs = cr[k]
                 a, b = fastest(rs), smallest(rs)
                 fast_known = any(r["target_clock_ps"] <= 2000 for r in rs)
                 lines.append(
-                    f"| {u} | {f} | {k[2]} | {ns(a['period_ps']) if fast_known else '(not run)'} | "
+                    f"| {k[0]} | {f} | {k[2]} | {ns(a['period_ps']) if fast_known else '(not run)'} | "
                     f"{format(a['fmax_mhz'], '.1f') if fast_known else ''} | {format(a['period_fo4'], '.1f') if fast_known else ''} | "
                     f"{fmt_int(a['area_um2']) if fast_known else ''} | {fmt_int(b['area_um2'])} | {ns(b['period_ps'])} | "
                     f"{'; '.join(sorted({'`' + r['command'] + '`' for r in rs}))} |")
@@ -276,6 +283,27 @@ def ray_table(cr):
                              f"{fr[0]['area_um2'] / fm[0]['area_um2']:.2f} (clocks {ns(fr[0]['period_ps'])} / "
                              f"{ns(fm[0]['period_ps'])} ns)")
                 ratio.append(line)
+    # the variants beside their base circuit (issue 14 sections 3 and 4): smallest mappings
+    for var, base, other in [("ray_tri_robust OptRecip=1", "ray_tri_robust", "ray_tri_mt"),
+                             ("ray_box OptConservative=1", "ray_box", None),
+                             ("ray_box OptConservative=2", "ray_box", "ray_box OptConservative=1")]:
+        for k in sorted(k for k in cr if k[0] == var):
+            kb = (base, k[1], k[2])
+            if kb not in cr:
+                continue
+            bv, bb = smallest(cr[k]), smallest(cr[kb])
+            line = (f"- {k[1]} Stages {k[2]}, {var} / {base}: smallest mappings {fmt_int(bv['area_um2'])} / "
+                    f"{fmt_int(bb['area_um2'])} um2 = **{bv['area_um2'] / bb['area_um2']:.2f}**")
+            fv = [r for r in cr[k] if r["target_clock_ps"] <= 2000]
+            fb = [r for r in cr[kb] if r["target_clock_ps"] <= 2000]
+            if fv and fb:
+                line += (f"; fastest {ns(fv[0]['period_ps'])} / {ns(fb[0]['period_ps'])} ns, "
+                         f"{fmt_int(fv[0]['area_um2'])} / {fmt_int(fb[0]['area_um2'])} um2")
+            ko = (other, k[1], k[2]) if other else None
+            if ko in cr:
+                bo = smallest(cr[ko])
+                line += f"; against {other}: {bv['area_um2'] / bo['area_um2']:.2f}"
+            ratio.append(line)
     return lines, ratio
 
 
@@ -415,7 +443,7 @@ def main():
            "clock-to-Q and setup, ≈ 0.4 ns; bisection between the Stages the fastest mappings bracket, which "
            "assumes the reachable period falls with Stages). Area = the smaller of the two mappings that meets T."] + mt
     rl, ratio = ray_table(cr)
-    md += ["", "## Ray units", ""] + rl + ["", "Robust / Möller–Trumbore area:"] + ratio
+    md += ["", "## Ray units", ""] + rl + ["", "Area ratios (robust / Möller–Trumbore; variants / their base circuit):"] + ratio
     md += ["", "## Register placement: depth estimates vs measured delays", "",
            "Each configuration mapped as fast as ABC can (200 ps target) twice: with the RTL's own depth "
            "estimates (`rayunits synth U --format F --stages S --flow osu018 --clock 200ps --stage-periods`) and "
