@@ -35,8 +35,8 @@ TriStudyRun run_tri_study(const TriStudyArgs& a, const std::string& command, std
 
 // ---- study box ------------------------------------------------------------------------------
 struct BoxStudyArgs {
-  std::string trace_file, write_trace_file, csv = "study_box.csv", exp_text = "7", frac_text = "7:23";
-  size_t synthetic = 0, limit = 0;
+  std::string trace_file, write_trace_file, csv = "study_box.csv", exp_text = "7", frac_text = "7:23", formats;
+  size_t synthetic = 0, limit = 0, adversarial = 0;
   uint64_t seed = 1;
   double scale = 1.0;
   int threads = 2, max_width = 32;

@@ -206,53 +206,16 @@ TEST(UnitsBox, NativeFastPathEqualsSoftOnSpecialValues) {
   EXPECT_GT(count_native_vs_soft<float>(rtz, 20000, 11), 0u);
 }
 
-// Adversarial records for a format: rays aimed exactly at box corners, edges and faces from
-// far away (the intervals touch within an ulp), grazing rays along faces, axis-parallel rays
-// on slab planes, tiny and huge boxes. All values are representable in the format.
-std::vector<BoxRecord> adversarial(const Format& f, uint64_t seed, size_t n) {
-  Rng rng(seed);
-  std::vector<BoxRecord> out;
-  SoftScope sc(f);
-  auto q = [&](double x) { return Soft::from_double(x).to_double(); };
-  const double maxf = ru::num::to_double(f, f.max_finite());
-  for (size_t i = 0; i < n; ++i) {
-    const double scale = std::ldexp(1.0, static_cast<int>(rng.below(9)) - 4);
-    BoxRecord r;
-    for (int k = 0; k < 3; ++k) {
-      double c = rng.uniform(-1, 1) * scale, h = rng.uniform(0.01, 0.5) * scale;
-      r.lo[k] = q(c - h);
-      r.hi[k] = q(c + h);
-    }
-    // Target: a corner, an edge point or a face point of the box, maybe nudged by an ulp.
-    Vec3d target;
-    const int kind = static_cast<int>(rng.below(3));
-    for (int k = 0; k < 3; ++k) {
-      const bool free_coord = (kind == 1 && k == 0) || (kind == 2 && k != 2);
-      target[k] = free_coord ? q(rng.uniform(r.lo[k], r.hi[k])) : (rng.below(2) ? r.lo[k] : r.hi[k]);
-    }
-    Vec3d d = rng.unit_vector();
-    if (rng.below(4) == 0) d[static_cast<int>(rng.below(3))] = rng.below(2) ? 0.0 : -0.0;  // grazing
-    const double dist = rng.uniform(0.5, 4) * scale;
-    for (int k = 0; k < 3; ++k) {
-      r.o[k] = q(target[k] - dist * d[k]);
-      double inv = 1.0 / q(d[k]);
-      if (std::fabs(inv) > maxf) inv = std::copysign(INFINITY, inv);
-      r.inv[k] = q(inv);
-    }
-    r.t_min = rng.below(3) == 0 ? q(rng.uniform(0, 1) * dist) : 0.0;
-    r.t_max = rng.below(3) == 0 ? q(rng.uniform(0.5, 2) * dist) : INFINITY;
-    out.push_back(r);
-  }
-  return out;
-}
-
-// The property tests' workload: synthetic pairs plus the adversarial ones above.
+// The property tests' workload: synthetic pairs plus adversarial ones for the format (rays aimed
+// exactly at box corners, edges and faces, grazing rays, tiny and huge boxes: adversarial_box in
+// units/synthetic.hpp; `rayunits study box --synthetic N/16*16 --adversarial N --seed S` runs the
+// same pairs).
 std::vector<BoxRecord> property_workload(const Format& f, size_t n, uint64_t seed) {
   SynthBoxOptions so;
   so.boxes = n / 16;
   so.seed = seed;
   auto recs = synth_box(so);
-  auto adv = adversarial(f, seed + 1, n);
+  auto adv = adversarial_box(f, seed + 1, n);
   recs.insert(recs.end(), adv.begin(), adv.end());
   return recs;
 }

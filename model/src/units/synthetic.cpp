@@ -100,4 +100,46 @@ std::vector<BoxRecord> synth_box(const SynthBoxOptions& o) {
   return out;
 }
 
+AdversarialBoxGen::AdversarialBoxGen(const ru::num::Format& f, uint64_t seed)
+    : f_(f), rng_(seed), maxf_(ru::num::to_double(f, f.max_finite())) {}
+
+double AdversarialBoxGen::q(double x) const { return ru::num::to_double(f_, ru::num::from_double(f_, x).bits); }
+
+BoxRecord AdversarialBoxGen::next() {
+  const double scale = std::ldexp(1.0, static_cast<int>(rng_.below(9)) - 4);
+  BoxRecord r;
+  for (int k = 0; k < 3; ++k) {
+    const double c = rng_.uniform(-1, 1) * scale, h = rng_.uniform(0.01, 0.5) * scale;
+    r.lo[k] = q(c - h);
+    r.hi[k] = q(c + h);
+  }
+  // Target: a corner (kind 0), an edge point (1: x free) or a face point (2: x, y free).
+  Vec3d target;
+  const int kind = static_cast<int>(rng_.below(3));
+  for (int k = 0; k < 3; ++k) {
+    const bool free_coord = (kind == 1 && k == 0) || (kind == 2 && k != 2);
+    target[k] = free_coord ? q(rng_.uniform(r.lo[k], r.hi[k])) : (rng_.below(2) ? r.lo[k] : r.hi[k]);
+  }
+  Vec3d d = rng_.unit_vector();
+  if (rng_.below(4) == 0) d[static_cast<int>(rng_.below(3))] = rng_.below(2) ? 0.0 : -0.0;  // grazing
+  const double dist = rng_.uniform(0.5, 4) * scale;
+  for (int k = 0; k < 3; ++k) {
+    r.o[k] = q(target[k] - dist * d[k]);
+    double inv = 1.0 / q(d[k]);
+    if (std::fabs(inv) > maxf_) inv = std::copysign(INFINITY, inv);
+    r.inv[k] = q(inv);
+  }
+  r.t_min = rng_.below(3) == 0 ? q(rng_.uniform(0, 1) * dist) : 0.0;
+  r.t_max = rng_.below(3) == 0 ? q(rng_.uniform(0.5, 2) * dist) : INFINITY;
+  return r;
+}
+
+std::vector<BoxRecord> adversarial_box(const ru::num::Format& f, uint64_t seed, size_t n) {
+  AdversarialBoxGen gen(f, seed);
+  std::vector<BoxRecord> out;
+  out.reserve(n);
+  for (size_t i = 0; i < n; ++i) out.push_back(gen.next());
+  return out;
+}
+
 }  // namespace ru::units

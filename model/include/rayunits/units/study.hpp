@@ -11,7 +11,8 @@
 //   against the exact test. Relative errors are computed in double from the exact value
 //   rounded to double (error <= 2^-52 relative, far below every reported figure).
 // study_box: false misses / false hits of the plain and conservative ray-box test against the
-//   exact slab test on the same (format-rounded) inputs.
+//   exact slab test on the same (format-rounded) inputs, and of the plain, conservative and
+//   d-conservative modes against the ray direction d; optionally with adversarial pairs per format.
 #pragma once
 
 #include <cstdint>
@@ -79,8 +80,8 @@ void eval_classes(const TriRecord& r, std::vector<ru::num::Soft> out[3]);
 ru::num::Soft eval_formula(const TriRecord& r, VolKind kind, int k, const Stp& s);
 
 // ------------------------------------------------------------------ box study
-struct BoxCell {
-  ru::num::Format fmt;
+// Counts of one part of a box cell (or of the whole cell).
+struct BoxCounts {
   uint64_t exact_hits = 0, records = 0;
   uint64_t plain_false_miss = 0, plain_false_hit = 0;
   uint64_t cons_false_miss = 0, cons_false_hit = 0;
@@ -89,13 +90,30 @@ struct BoxCell {
   uint64_t dir_records = 0, dir_exact_hits = 0;
   uint64_t dir_plain_false_miss = 0, dir_plain_false_hit = 0, dir_cons_false_miss = 0, dir_cons_false_hit = 0;
   uint64_t dir_dcons_false_miss = 0, dir_dcons_false_hit = 0;
+  BoxCounts& operator+=(const BoxCounts& o);
+  BoxCounts operator-(const BoxCounts& o) const;
+};
+// One format: the counts (BoxCounts, inherited) are over all records, the given ones (trace or
+// synthetic) and the adversarial ones; `adversarial` is the adversarial part alone.
+struct BoxCell : BoxCounts {
+  ru::num::Format fmt;
+  BoxCounts adversarial;
+  BoxCounts given() const { return *this - adversarial; }
   ru::num::SoftStats flags;
   double seconds = 0;
 };
 struct BoxStudyOptions {
   std::vector<ru::num::Format> formats;
   int threads = 2;
+  // Per format, after the given records: `adversarial` records of AdversarialBoxGen(format,
+  // adversarial_seed) (units/synthetic.hpp), generated for that format while it is studied.
+  size_t adversarial = 0;
+  uint64_t adversarial_seed = 2;
+  // Called after each finished format (from worker threads, serialized).
   std::function<void(size_t done, size_t total, const BoxCell&)> progress;
+  // Called about every 2^20 pairs (summed over all formats and threads, serialized) with the
+  // pairs done so far and the total (formats x (given + adversarial)).
+  std::function<void(uint64_t done, uint64_t total)> pair_progress;
 };
 std::vector<BoxCell> study_box(const std::vector<BoxRecord>& recs, const BoxStudyOptions& opt);
 

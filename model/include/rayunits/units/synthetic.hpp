@@ -15,11 +15,18 @@
 // of the box grown by 1.6x per axis (roughly half hit), plus special rays: a fraction with one
 // or two direction components exactly zero (inv = +-INF), of which some start exactly on a
 // slab plane of the box (0*INF); some rays start inside the box; some have a finite t_max.
+//
+// Adversarial boxes for one format (AdversarialBoxGen, adversarial_box): every value is
+// representable in the format; tiny and huge boxes (scale 2^-4 .. 2^4), rays aimed exactly at a
+// corner, an edge point or a face point of the box from a random direction (the slab intervals
+// touch within an ulp), a quarter of them grazing (one direction component +0 or -0), some with
+// a finite t_min / t_max.
 #pragma once
 
 #include <cstdint>
 #include <vector>
 
+#include "rayunits/num/format.hpp"
 #include "rayunits/units/trace.hpp"
 #include "rayunits/util/rng.hpp"
 
@@ -57,5 +64,24 @@ struct SynthBoxOptions {
   double finite_tmax_fraction = 0.25;    // rays with a finite t_max
 };
 std::vector<BoxRecord> synth_box(const SynthBoxOptions& o);
+
+// Adversarial ray-box pairs for format f, one at a time (a long run needs no vector):
+// next() draws box, target on the box (corner, edge or face point), direction, origin and
+// t range from the generator's own stream; inv_k = 1/d_k rounded into f (+-INF where 1/d_k
+// overflows, d_k = +-0 gives +-INF). The records are exact in f (rounding them into f changes
+// nothing). No SoftScope is needed (and the thread's Soft statistics are not touched).
+class AdversarialBoxGen {
+ public:
+  AdversarialBoxGen(const ru::num::Format& f, uint64_t seed);
+  BoxRecord next();
+
+ private:
+  double q(double x) const;  // x rounded into f_ (RNE)
+  ru::num::Format f_;
+  Rng rng_;
+  double maxf_;
+};
+// The first n records of AdversarialBoxGen(f, seed).
+std::vector<BoxRecord> adversarial_box(const ru::num::Format& f, uint64_t seed, size_t n);
 
 }  // namespace ru::units
