@@ -32,22 +32,38 @@ std::string synth_help() {
          kFlowOptionsHelp;
 }
 
-int run_synth_cmd(int argc, char** argv) {
+}  // namespace
+
+// `rayunits synth` arguments parsed and checked (unit, configuration, flow options) without running
+// anything: false if help was printed. `rayunits sweep` checks every synth job's argv with it.
+bool parse_synth_command(int argc, char** argv, SynthCommand& r) {
   CLI::App app{"", "rayunits synth"};
   synth_app(app, synth_help);
-  std::string unit, json_out;
+  std::string unit;
   ConfigArgs ca;
-  synth::FlowOptions fo;
   FlowArgs fa;
   app.add_option("unit", unit, "the unit");
   add_config_options(app, ca);
-  app.add_option("--json", json_out, "also write the result as JSON (\"-\": on stdout)");
-  add_flow_options(app, fo, fa);
-  if (!parse_synth_args(app, argc, argv, unit_command_surplus("synth"))) return 0;
-  check_flow_options(app, fo, fa);
+  app.add_option("--json", r.json_out, "also write the result as JSON (\"-\": on stdout)");
+  add_flow_options(app, r.flow, fa);
+  if (!parse_synth_args(app, argc, argv, unit_command_surplus("synth"))) return false;
+  check_flow_options(app, r.flow, fa);
   if (unit.empty()) throw UsageError("missing unit (units: " + synth::unit_names() + ")");
-  const synth::UnitSpec& u = synth::find_unit(unit);
-  const synth::UnitConfig c = make_config(u, app, ca);
+  r.unit = &synth::find_unit(unit);
+  r.config = make_config(*r.unit, app, ca);
+  synth::check_config(*r.unit, r.config);
+  return true;
+}
+
+namespace {
+
+int run_synth_cmd(int argc, char** argv) {
+  SynthCommand sc;
+  if (!parse_synth_command(argc, argv, sc)) return 0;
+  const synth::UnitSpec& u = *sc.unit;
+  const synth::UnitConfig& c = sc.config;
+  const synth::FlowOptions& fo = sc.flow;
+  const std::string& json_out = sc.json_out;
   synth::install_interrupt_handler();
   const synth::SynthResult r = synth::run_synth(u, c, fo);
   std::string row;  // one object per target clock: JSON Lines

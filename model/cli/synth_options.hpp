@@ -207,4 +207,14 @@ inline bool parse_synth_args(CLI::App& app, int argc, char** argv,
   return true;
 }
 
+// A `rayunits synth` command line, parsed and checked (cmd_synth.cpp; `rayunits sweep` checks
+// every synth job with it).
+struct SynthCommand {
+  const synth::UnitSpec* unit = nullptr;
+  synth::UnitConfig config;
+  synth::FlowOptions flow;
+  std::string json_out;
+};
+bool parse_synth_command(int argc, char** argv, SynthCommand& r);  // false: help was printed
+
 }  // namespace ru::cli

@@ -1,6 +1,7 @@
 // rayunits util: commit lookup (see rayunits/util/git.hpp).
 #include "rayunits/util/git.hpp"
 
+#include "rayunits/util/hash.hpp"
 #include "rayunits/util/process.hpp"
 
 namespace ru::util {
@@ -31,6 +32,27 @@ std::optional<CommitInfo> git_commit_info(const std::string& source_dir, bool sh
     return CommitInfo{head, d.exit_code != 0 || !d.out.empty()};
   } catch (const ProcessError&) {
     return std::nullopt;
+  }
+}
+
+std::string git_tree_id(const std::string& source_dir, const std::string& path) {
+  const std::string git = find_program("git");
+  if (git.empty()) return "";
+  ProcessOptions o;
+  o.out = Redirect::capture();
+  o.err = Redirect::null();
+  o.timeout_s = 30;
+  try {
+    ProcessResult r = run_process({git, "-C", source_dir, "rev-parse", "HEAD:" + path}, o);
+    std::string tree = r.out;
+    while (!tree.empty() && (tree.back() == '\n' || tree.back() == ' ')) tree.pop_back();
+    if (r.exit_code != 0 || tree.empty() || tree.find_first_not_of("0123456789abcdef") != std::string::npos) return "";
+    ProcessResult d = run_process({git, "-C", source_dir, "diff", "--no-ext-diff", "HEAD", "--", path}, o);
+    if (d.exit_code != 0) return tree + "+unknown";
+    if (d.out.empty()) return tree;
+    return tree + "+" + fnv1a64_hex(d.out);
+  } catch (const ProcessError&) {
+    return "";
   }
 }
 

@@ -17,6 +17,11 @@ struct CommitInfo {
 std::optional<CommitInfo> git_commit_info(const std::string& source_dir, bool short_hash = false,
                                           const std::vector<std::string>& pathspec = {});
 
+// Content identity of one directory of the repository: git's tree id of `path` at HEAD, followed by
+// "+<FNV-1a 64 of `git diff HEAD -- path`>" when it has uncommitted changes; "" without git or
+// outside a repository. Changes only when something under `path` changes (not on every commit).
+std::string git_tree_id(const std::string& source_dir, const std::string& path);
+
 // "<HEAD>", "<HEAD> (with uncommitted changes)" or "unknown" (the reports' commit line).
 std::string git_commit(const std::string& source_dir);
 

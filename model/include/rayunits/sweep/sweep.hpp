@@ -1,0 +1,102 @@
+// rayunits sweep engine (`rayunits sweep`, docs/SWEEPS.md): a TOML grid file expands to a job
+// list (DIR/jobs.jsonl), a local runner executes the jobs as `rayunits` child processes (argv
+// vectors through util::run_process, never a shell) on N workers, and every finished job becomes
+// one whole line of DIR/results.jsonl (plus the regenerated DIR/results.csv), so an interrupted
+// sweep leaves a consistent table and a rerun skips every job whose hash already has an ok row.
+//
+// A grid is a TOML table with a `kind` ("synth", "study" with `study = "box"|"tri"`, "render";
+// `rtl` and `trax` are reserved) and keys named after the options of that command (`format`,
+// `stages`, `generic_only`, ...): an array is an axis, a scalar a fixed value; the jobs are the
+// product of the axes. A file holds one grid at the top level or several as [[grid]] tables.
+// Every value is checked against the option it feeds (type, then the same parser/registry check
+// the command uses) before anything is written; errors are one line naming the file, line and key.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace ru::sweep {
+
+// A bad grid file: one line "GRID.toml:LINE: key 'format': ...". The CLI exits 2.
+struct GridError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct Job {
+  std::size_t index = 0;    // position in the job list
+  std::size_t grid = 0;     // which grid of the file ([[grid]] index; 0 for a top-level grid)
+  std::string kind;         // "synth", "study box", "study tri", "render"
+  nlohmann::json params;    // the job's parameters: key -> scalar (sorted keys; `param.X` for --param X=)
+  nlohmann::json deps;      // what the hash covers besides params: {"tool": ..., "sources": ..., ...}
+  std::string hash;         // 16 hex digits: util::fnv1a64_hex of kind + params + deps (canonical JSON)
+  std::vector<std::string> argv;  // argv[0] "rayunits" (the runner substitutes its executable)
+  std::string out_dir;      // relative to the sweep directory: out/<hash>
+  std::string result;       // the file holding the job's typed result, relative to the sweep dir
+  std::string label;        // "synth fp_add format=e5m10 stages=0" (progress lines)
+};
+
+struct ExpandOptions {
+  std::string source_dir;   // the repository (default: the one rayunits was built from)
+  // Identity of the rayunits code that runs the jobs (part of every hash). Empty: tool_id(source_dir).
+  std::string tool;
+  // Extra per-job check after the built-in ones (the CLI parses each argv as its command would);
+  // throws std::exception with the message. May be empty.
+  std::function<void(const Job&)> check_job;
+};
+
+struct Expansion {
+  std::vector<Job> jobs;
+  std::vector<std::string> skipped;  // "synth fp_add format=e5m10 stages=9: above the unit's maximum 7"
+};
+
+// "rayunits <version> model <git tree id of model/>[+<hash of its uncommitted diff>]" (without
+// git: "rayunits <version> model unknown").
+std::string tool_id(const std::string& source_dir);
+
+// Parses and expands a grid. Throws GridError (one line) on any problem; `source` names the file
+// in messages.
+Expansion expand_grid(const std::string& toml_text, const std::string& source, const ExpandOptions& opt = {});
+Expansion expand_grid_file(const std::string& path, const ExpandOptions& opt = {});
+
+// The kinds a grid may name and their keys (docs, --help): "synth: unit format stages ...".
+std::string kinds_help();
+
+// One line of jobs.jsonl, and back (Slurm array tasks will read their job with job_from_json).
+nlohmann::json job_json(const Job& j);
+Job job_from_json(const nlohmann::json& j);
+std::string jobs_jsonl(const std::vector<Job>& jobs);
+
+struct RunOptions {
+  std::string dir;          // the sweep directory (created)
+  int jobs = 1;             // worker processes
+  double timeout_s = 0;     // > 0: a job running longer is killed and recorded as timed out
+  bool force = false;       // rerun jobs that have an ok result
+  std::string exe;          // the rayunits executable (argv[0] of every job)
+  std::string grid_text;    // copied to DIR/grid.toml ("" : not copied)
+  std::function<void(const std::string&)> progress;  // one line at a time (stderr in the CLI)
+};
+
+struct RunSummary {
+  std::size_t total = 0, skipped = 0, ok = 0, failed = 0, not_run = 0;
+  bool interrupted = false;  // SIGINT/SIGTERM: the running jobs were stopped and not recorded
+};
+
+// Writes DIR/jobs.jsonl, runs every job without an ok row (all with force), appends each finished
+// job's row to DIR/results.jsonl (one write + fsync per line) and rewrites DIR/results.csv (temp
+// file + rename) after each. Logs in DIR/logs/<hash>.log.
+RunSummary run_jobs(const std::vector<Job>& jobs, const RunOptions& opt);
+
+// The rows of DIR/results.jsonl, whole lines only (a torn last line is ignored), the last row
+// per hash, in file order of their last appearance.
+std::vector<nlohmann::json> read_results(const std::string& dir);
+
+// results.csv of these rows: hash, index, kind, status, wall_s, error, then every parameter, then
+// every scalar field of the typed result (one CSV line per result row; a job with no result row
+// gets one line).
+std::string results_csv(const std::vector<nlohmann::json>& rows);
+
+}  // namespace ru::sweep
