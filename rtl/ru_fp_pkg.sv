@@ -172,6 +172,26 @@ package ru_fp_pkg;
     div_seg_w = v;
   endfunction
 
+  // ru_fp_sqrt: unpack(+normalize) + exponent halving + root bit 0 | step 1 .. step FracW+1 |
+  // round A | round B
+  function automatic int unsigned sqrt_nseg(input int unsigned frac_w);
+    sqrt_nseg = frac_w + 4;
+  endfunction
+  function automatic logic [ru_pipe_pkg::WW-1:0] sqrt_seg_w(input int unsigned exp_w,
+                                                               input int unsigned frac_w,
+                                                               input int unsigned sub);
+    logic [ru_pipe_pkg::WW-1:0] v;
+    v = '0;
+    v = ru_pipe_pkg::put_w(v, 0, max2(d_add(exp_iw(exp_w, frac_w)) + 1,
+                                      (sub != 0) ? d_lzc(frac_w + 1) + d_shift(frac_w + 1) : 2) + 2);
+    // step k compares a (k+3)-bit partial remainder with the (k+2)-bit trial root
+    for (int unsigned k = 1; k <= frac_w + 1; k++)
+      v = ru_pipe_pkg::put_w(v, k, d_add(k + 3) + 1);
+    v = ru_pipe_pkg::put_w(v, frac_w + 2, clog2p(frac_w + 3) + d_round_a(exp_w, frac_w, sub));
+    v = ru_pipe_pkg::put_w(v, frac_w + 3, d_round_b(exp_w, frac_w) + 2);
+    sqrt_seg_w = v;
+  endfunction
+
   // ru_fp_cmp: unpack/flush/classify | magnitude compare | operation select
   function automatic int unsigned cmp_nseg();
     cmp_nseg = 3;

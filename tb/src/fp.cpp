@@ -17,6 +17,7 @@ const FpUnitSpec* fp_unit_spec(const std::string& unit) {
       {"fp_add", {{"add", Op::Add}, {"sub", Op::Sub}}, 1, false},
       {"fp_mul", {{"mul", Op::Mul}}, 0, false},
       {"fp_div", {{"div", Op::Div}}, 0, false},
+      {"fp_sqrt", {{"sqrt", Op::Sqrt}}, 0, false, true},
       {"fp_cmp", {{"lt", Op::Lt}, {"le", Op::Le}, {"eq", Op::Eq}, {"min", Op::Min}, {"max", Op::Max}}, 3, false},
       {"fp_dot3", {{"dot3", Op::Fma}}, 0, true},
   };
@@ -50,7 +51,7 @@ FpAdapter::FpAdapter(const FpUnitSpec& spec, const Format& f, int stages)
     for (const char* n : {"a0", "a1", "a2", "b0", "b1", "b2"}) ins_.push_back({n, W_, FieldKind::Float, {}});
   } else {
     ins_.push_back({"a_i", W_, FieldKind::Float, {}});
-    ins_.push_back({"b_i", W_, FieldKind::Float, {}});
+    if (!spec.unary) ins_.push_back({"b_i", W_, FieldKind::Float, {}});
   }
   outs_.push_back({"y_o", W_, FieldKind::Float, {}});
   outs_.push_back({"flags_o", 5, FieldKind::Flags, {}});
@@ -66,11 +67,11 @@ void FpAdapter::bind(const PortMap& pm) {
     if (op_.bits() != spec_.op_bits) throw std::runtime_error(std::string(spec_.unit) + ": op_i width mismatch");
   }
   a_ = pm.get("a_i");
-  b_ = pm.get("b_i");
+  if (!spec_.unary) b_ = pm.get("b_i");
   y_ = pm.get("y_o");
   flags_ = pm.get("flags_o");
   const int wa = spec_.dot3 ? 3 * W_ : W_;
-  if (a_.bits() != wa || b_.bits() != wa || y_.bits() != W_ || flags_.bits() != 5)
+  if (a_.bits() != wa || (!spec_.unary && b_.bits() != wa) || y_.bits() != W_ || flags_.bits() != 5)
     throw std::runtime_error(describe() + ": port widths do not match the format");
 }
 
@@ -93,7 +94,7 @@ void FpAdapter::drive(const Record& in) {
     b_.set_words(w, 3);
   } else {
     a_.set(in.v[1]);
-    b_.set(in.v[2]);
+    if (!spec_.unary) b_.set(in.v[2]);
   }
 }
 
@@ -107,7 +108,7 @@ void FpAdapter::model(const Record& in, Record& out) {
   if (spec_.dot3) {
     r = ru::num::dot3(f_, &in.v[1], &in.v[4]);
   } else {
-    r = ru::num::apply(f_, spec_.ops[in.v[0]].op, in.v[1], in.v[2]);
+    r = ru::num::apply(f_, spec_.ops[in.v[0]].op, in.v[1], spec_.unary ? 0 : in.v[2]);
   }
   out.v[0] = r.bits;
   out.v[1] = r.flags;
@@ -195,22 +196,24 @@ namespace {
 
 class SpecialBinary final : public VectorSource {
  public:
-  SpecialBinary(const FpUnitSpec& s, const Format& f) : nops_(s.ops.size()), sv_(ru::num::special_values(f)) {}
+  SpecialBinary(const FpUnitSpec& s, const Format& f)
+      : nops_(s.ops.size()), unary_(s.unary), sv_(ru::num::special_values(f)) {}
   bool next(Record& r) override {
     if (i_ >= sv_.size()) return false;
     r.v[0] = op_;
     r.v[1] = sv_[i_];
-    r.v[2] = sv_[j_];
+    r.v[2] = unary_ ? 0 : sv_[j_];
     if (++op_ == nops_) {
       op_ = 0;
-      if (++j_ == sv_.size()) j_ = 0, ++i_;
+      if (unary_ || ++j_ == sv_.size()) j_ = 0, ++i_;
     }
     return true;
   }
-  uint64_t total() const override { return nops_ * sv_.size() * sv_.size(); }
+  uint64_t total() const override { return nops_ * sv_.size() * (unary_ ? 1 : sv_.size()); }
 
  private:
   size_t nops_;
+  bool unary_;
   std::vector<uint64_t> sv_;
   size_t i_ = 0, j_ = 0, op_ = 0;
 };
@@ -256,6 +259,10 @@ class RandomFp final : public VectorSource {
         r.v[2] = r.v[1];
         r.v[5] = ru::num::neg(f_, r.v[4]);
       }
+    } else if (s_.unary) {  // sqrt: exact squares and squares of rounding midpoints, or anything
+      r.v[0] = rng_.below(s_.ops.size());
+      r.v[1] = rng_.below(2) ? gen_.sqrt_case() : gen_.next();
+      r.v[2] = 0;
     } else {
       r.v[0] = rng_.below(s_.ops.size());
       gen_.pair(r.v[1], r.v[2]);
@@ -274,7 +281,8 @@ class RandomFp final : public VectorSource {
 
 class ExhaustiveBinary final : public VectorSource {
  public:
-  ExhaustiveBinary(const FpUnitSpec& s, const Format& f) : nops_(s.ops.size()), n_(1ull << f.width()) {}
+  ExhaustiveBinary(const FpUnitSpec& s, const Format& f)
+      : nops_(s.ops.size()), n_(1ull << f.width()), unary_(s.unary) {}
   bool next(Record& r) override {
     if (a_ >= n_) return false;
     r.v[0] = op_;
@@ -282,14 +290,16 @@ class ExhaustiveBinary final : public VectorSource {
     r.v[2] = b_;
     if (++op_ == nops_) {
       op_ = 0;
-      if (++b_ == n_) b_ = 0, ++a_;
+      if (unary_ || ++b_ == n_) b_ = 0, ++a_;
     }
     return true;
   }
-  uint64_t total() const override { return nops_ * n_ * n_; }
+  uint64_t total() const override { return nops_ * n_ * (unary_ ? 1 : n_); }
 
  private:
-  uint64_t nops_, n_, a_ = 0, b_ = 0, op_ = 0;
+  uint64_t nops_, n_;
+  bool unary_;
+  uint64_t a_ = 0, b_ = 0, op_ = 0;
 };
 
 }  // namespace
@@ -304,12 +314,15 @@ std::unique_ptr<VectorSource> fp_random_source(const FpUnitSpec& s, const Format
 }
 
 uint64_t fp_exhaustive_count(const FpUnitSpec& s, const Format& f) {
-  return s.ops.size() << (2 * f.width());
+  return s.ops.size() << ((s.unary ? 1 : 2) * f.width());
 }
 
 std::unique_ptr<VectorSource> fp_exhaustive_source(const FpUnitSpec& s, const Format& f) {
   if (s.dot3) throw std::invalid_argument("fp_dot3 has six operands: no exhaustive source");
-  if (f.width() > 12) throw std::invalid_argument(f.name() + " is too wide for an exhaustive run (at most 12 bits)");
+  const int max_w = s.unary ? 24 : 12;
+  if (f.width() > max_w)
+    throw std::invalid_argument(f.name() + " is too wide for an exhaustive run (at most " + std::to_string(max_w) +
+                                " bits)");
   return std::make_unique<ExhaustiveBinary>(s, f);
 }
 

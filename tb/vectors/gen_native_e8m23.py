@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
-"""Writes tb/vectors/fp_{add,mul,div}.e8m23_native.txt: e8m23 RNE vectors whose expected
+"""Writes tb/vectors/fp_{add,mul,div,sqrt}.e8m23_native.txt: e8m23 RNE vectors whose expected
 results come from the host's native binary32 arithmetic (an oracle independent of the
-rayunits model): Python computes a op b in binary64 and ctypes rounds it to binary32.
-That double rounding is exact for +, -, *, / because 53 >= 2*24 + 2 (Figueroa 1995).
+rayunits model): Python computes a op b (sqrt a) in binary64 and ctypes rounds it to binary32.
+That double rounding is exact for +, -, *, / and sqrt because 53 >= 2*24 + 2 (Figueroa 1995).
 NaN results are written as the canonical NaN 0x7fc00000 (docs/FORMAT.md), not the host's.
 Flags are left unchecked ('?') except in the hand-written lines at the top of each file.
 
@@ -79,13 +79,29 @@ HAND = {
         "div 0x7f800000 0x7f800000 -> 0x7fc00000 i     # inf / inf",
         "div 0x00000001 2 -> 0 ux                      # min subnormal / 2: tie to even 0",
     ],
+    "sqrt": [
+        "sqrt 4 -> 2 -",
+        "sqrt 2 -> 0x3fb504f3 x                        # sqrt(2) rounded",
+        "sqrt 0x80000000 -> 0x80000000 -               # sqrt(-0) = -0",
+        "sqrt 0 -> 0 -",
+        "sqrt -1 -> 0x7fc00000 i                       # negative: invalid",
+        "sqrt 0xff800000 -> 0x7fc00000 i               # sqrt(-inf): invalid",
+        "sqrt 0x7f800000 -> 0x7f800000 -               # sqrt(+inf) = +inf",
+        "sqrt 0x7fa00000 -> 0x7fc00000 i               # signaling NaN",
+        "sqrt 0xffc00001 -> 0x7fc00000 -               # quiet NaN: canonical, no flag",
+        "sqrt 0x00000001 -> 0x1a3504f3 x               # min subnormal: 2^-74.5, a normal root",
+        "sqrt 0x00800000 -> 0x20000000 -               # min normal 2^-126: exact 2^-63",
+        "sqrt 0x7f7fffff -> 0x5f7fffff x               # max finite",
+    ],
 }
 
 OPS = {
     "add": [("add", lambda a, b: a + b), ("sub", lambda a, b: a - b)],
     "mul": [("mul", lambda a, b: a * b)],
     "div": [("div", lambda a, b: a / b if b != 0 else (math.copysign(math.inf, a) * math.copysign(1, b) if a != 0 and not math.isnan(a) else math.nan))],
+    "sqrt": [("sqrt", lambda a: a if a == 0 or a == math.inf else (math.sqrt(a) if a > 0 else math.nan))],
 }
+UNARY = {"sqrt"}
 
 
 def main():
@@ -104,6 +120,12 @@ def main():
         lines += HAND[unit]
         for _ in range(args.count):
             name, fn = ops[rng.randrange(len(ops))]
+            if unit in UNARY:
+                a = operand(rng)
+                fa = b2f(a)
+                y = 0x7FC00000 if math.isnan(fa) else result_bits(fn(fa))
+                lines.append(f"{name} 0x{a:08x} -> 0x{y:08x} ?")
+                continue
             a, b = operand(rng), operand(rng)
             fa, fb = b2f(a), b2f(b)
             if math.isnan(fa) or math.isnan(fb):

@@ -134,7 +134,9 @@ TEST(Registry, RtlReadmeTableAgrees) {
   };
   const auto fmts = row("format");
   const auto maxs = row("max Stages mul / div / dot3");
+  const auto sqrts = row("max Stages sqrt");
   ASSERT_EQ(fmts.size(), maxs.size());
+  ASSERT_EQ(fmts.size(), sqrts.size());
   ASSERT_GE(fmts.size(), 3u);
   for (size_t i = 0; i < fmts.size(); ++i) {
     SCOPED_TRACE(fmts[i]);
@@ -144,6 +146,7 @@ TEST(Registry, RtlReadmeTableAgrees) {
     EXPECT_EQ(find_unit("fp_mul").max_stages(c), mul);
     EXPECT_EQ(find_unit("fp_div").max_stages(c), div);
     EXPECT_EQ(find_unit("fp_dot3").max_stages(c), dot3);
+    EXPECT_EQ(find_unit("fp_sqrt").max_stages(c), std::stoi(sqrts[i])) << sqrts[i];
   }
   // The units table: `| `ru_fp_add`  | ... | 5 |`.
   for (const char* name : {"fp_add", "fp_cmp"}) {
@@ -167,7 +170,7 @@ TEST(Registry, ReadmeOnePastTheMaximumAgrees) {
     text = m[1].str();
   }
   const std::map<std::string, std::string> unit_of = {
-      {"add", "fp_add"}, {"mul", "fp_mul"},   {"div", "fp_div"},   {"cmp", "fp_cmp"},
+      {"add", "fp_add"}, {"mul", "fp_mul"},   {"div", "fp_div"},   {"sqrt", "fp_sqrt"}, {"cmp", "fp_cmp"},
       {"dot3", "fp_dot3"}, {"ray_box", "ray_box"}, {"ray_tri_robust", "ray_tri_robust"},
       {"ray_tri_mt", "ray_tri_mt"}, {"noise", "noise"}};
   const std::regex item("([a-z_0-9]+)\\s+([0-9]+)");

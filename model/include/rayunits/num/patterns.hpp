@@ -35,6 +35,10 @@ class OperandGen {
   void pair(uint64_t& a, uint64_t& b);
   // Three operands for fma (a*b+c).
   void triple(uint64_t& a, uint64_t& b, uint64_t& c);
+  // One sqrt operand over the whole exponent range (subnormals included), 10 % negative: an
+  // exact square of a short significand, or the square of an (M+2)-bit odd number (a rounding
+  // midpoint: the root lands next to a tie), half of those moved by one ulp.
+  uint64_t sqrt_case();
 
  private:
   uint64_t rnd();                 // xoshiro256** (util/rng.hpp)
@@ -62,7 +66,6 @@ class OperandGen {
   void pair_near_pow2(uint64_t& a, uint64_t& b);
   void pair_div_near_tie(uint64_t& a, uint64_t& b);
   void pair_div_exact(uint64_t& a, uint64_t& b);
-  uint64_t sqrt_case();
   void triple_cancel(uint64_t& a, uint64_t& b, uint64_t& c);
   void triple_expdiff(uint64_t& a, uint64_t& b, uint64_t& c);
 

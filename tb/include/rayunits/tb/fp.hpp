@@ -1,9 +1,9 @@
 // rayunits tb: the adapter layer shared by the floating-point units (ru_fp_add, ru_fp_mul,
-// ru_fp_div, ru_fp_cmp, ru_fp_dot3) and their vector sources.
+// ru_fp_div, ru_fp_sqrt, ru_fp_cmp, ru_fp_dot3) and their vector sources.
 //
 // Input record: field 0 is the operation (the op_i code; units without op_i have one op),
-// then the operands: a, b for the binary units, a0 a1 a2 b0 b1 b2 for fp_dot3 (driven packed as
-// a_i = {a2, a1, a0}, b_i = {b2, b1, b0}). Output record: y_o, flags_o.
+// then the operands: a, b for the binary units, a for the unary fp_sqrt, a0 a1 a2 b0 b1 b2 for
+// fp_dot3 (driven packed as a_i = {a2, a1, a0}, b_i = {b2, b1, b0}). Output record: y_o, flags_o.
 // Golden model: ru::num::apply / ru::num::dot3 with the configuration's Format.
 #pragma once
 
@@ -28,7 +28,8 @@ struct FpUnitSpec {
   std::vector<FpOpDesc> ops;   // indexed by the op_i code
   int op_bits = 0;             // width of op_i; 0: the unit has no op_i port
   bool dot3 = false;
-  int operands() const { return dot3 ? 6 : 2; }
+  bool unary = false;          // one operand a_i, no b_i port (fp_sqrt)
+  int operands() const { return dot3 ? 6 : unary ? 1 : 2; }
 };
 
 // nullptr if `unit` is not a floating-point unit.
@@ -71,13 +72,16 @@ class FpAdapter final : public UnitAdapter {
 };
 
 // Vector sources. All are deterministic functions of their arguments.
-// Every op x every pair of ru::num::special_values(f) (fp_dot3: each pair placed in one product,
-// the other operands drawn from the specials and OperandGen).
+// Every op x every pair of ru::num::special_values(f) (unary units: every special value;
+// fp_dot3: each pair placed in one product, the other operands drawn from the specials and
+// OperandGen).
 std::unique_ptr<VectorSource> fp_special_source(const FpUnitSpec& s, const ru::num::Format& f, uint64_t seed);
 // n vectors: uniformly random op, operands from ru::num::OperandGen (weighted random and the
-// hard cases of each operation; fp_dot3: two triples, 1 in 4 with a cancelling product pair).
+// hard cases of each operation; fp_sqrt: half of them OperandGen::sqrt_case, exact squares and
+// squares of rounding midpoints; fp_dot3: two triples, 1 in 4 with a cancelling product pair).
 std::unique_ptr<VectorSource> fp_random_source(const FpUnitSpec& s, const ru::num::Format& f, uint64_t seed, uint64_t n);
-// Every op x every pair of bit patterns (binary units; the format must be at most 12 bits wide).
+// Every op x every pair of bit patterns (binary units; the format must be at most 12 bits wide),
+// every bit pattern for unary units (at most 24 bits wide).
 std::unique_ptr<VectorSource> fp_exhaustive_source(const FpUnitSpec& s, const ru::num::Format& f);
 uint64_t fp_exhaustive_count(const FpUnitSpec& s, const ru::num::Format& f);
 
