@@ -1,8 +1,10 @@
 // rayunits render: one image of a scene in a chosen arithmetic format.
 #include <cstdio>
+#include <nlohmann/json.hpp>
 
 #include "cli_util.hpp"
 #include "rayunits/report/report.hpp"
+#include "rayunits/synth/process.hpp"
 #include "render_common.hpp"
 
 namespace ru::render {
@@ -17,7 +19,7 @@ int run_render(int argc, char** argv) {
   SceneArgs sa;
   sa.add(app);
   std::string format = "float", tri = "robust", box = "plain", bvh = "sah", noise = "float", size = "512x512";
-  std::string out, trace_out, diff_out;
+  std::string out, trace_out, diff_out, json_out;
   uint64_t trace_limit = 0;
   int threads = 2, leaf = 4;
   bool no_shadows = false, compare = false, quiet = false;
@@ -35,6 +37,7 @@ int run_render(int argc, char** argv) {
   app.add_option("--trace-limit", trace_limit, "stop the trace after this many records (0: all)");
   app.add_flag("--compare", compare, "also render in double and print errors / PSNR against it");
   app.add_option("--diff-out", diff_out, "with --compare: write the error map PNG here");
+  app.add_option("--json", json_out, "also write the run as one JSON line (stats; with --compare its errors vs double)");
   app.add_flag("--quiet", quiet, "no progress lines");
   if (!parse_args(app, argc, argv)) return 0;
 
@@ -78,6 +81,7 @@ int run_render(int argc, char** argv) {
                 (unsigned long long)st.trace_boxes, (unsigned long long)st.trace_tris,
                 st.trace_truncated ? " (truncated at --trace-limit)" : "");
   std::printf("wrote %s\n", out.c_str());
+  nlohmann::json vs_double;
   if (compare) {
     render::RenderOptions ro = opt;
     ro.format = "double";
@@ -86,10 +90,26 @@ int run_render(int argc, char** argv) {
     const render::ImageDiff d = render::compare(img, ref);
     std::printf("vs double: %llu pixels more than 10%% different (%.3f%%), PSNR %.1f dB\n",
                 (unsigned long long)d.errors, 100.0 * d.errors / d.pixels, d.psnr);
+    vs_double = render::to_json(d);
     if (!diff_out.empty()) {
       render::write_png(diff_out, render::error_map(img, ref));
       std::printf("wrote %s\n", diff_out.c_str());
     }
+  }
+  if (!json_out.empty()) {
+    nlohmann::json j = render::to_json(st);
+    j["scene"] = s.name;
+    j["triangles"] = s.tris.size();
+    j["tri"] = tri;
+    j["box"] = box;
+    j["bvh"] = render::bvh_name(opt.bvh);
+    j["noise"] = noise;
+    j["width"] = opt.width;
+    j["height"] = opt.height;
+    j["shadows"] = opt.shadows;
+    j["png"] = out;
+    if (compare) j["vs_double"] = vs_double;
+    synth::write_file_atomic(json_out, j.dump() + "\n");
   }
   return 0;
 }

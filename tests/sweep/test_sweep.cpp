@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <mutex>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -53,6 +54,17 @@ CmdRun sweep(const std::vector<std::string>& args) {
   o.timeout_s = 600;
   const auto r = ru::util::run_process(argv, o);
   return {r.status(), r.out, r.err};
+}
+
+// Processes whose working directory is `d` (a sweep's jobs run in its directory).
+int processes_in(const fs::path& d) {
+  int n = 0;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator("/proc", ec)) {
+    std::error_code ec2;
+    if (fs::read_symlink(e.path() / "cwd", ec2) == d) ++n;
+  }
+  return n;
 }
 
 int count_lines(const std::string& s) {
@@ -219,7 +231,7 @@ TEST_F(Sweep, BadGridsGiveOneLineNamingTheKeyExit2AndWriteNothing) {
       {"clock without cell flow", "kind='synth'\nunit='fp_add'\nformat='e5m10'\nstages=0\nflow='generic'\nclock='2ns'\n",
        "key 'clock': needs a cell-library flow"},
       {"missing key", "kind='synth'\nunit='fp_add'\nformat='e5m10'\n", "key 'stages': required"},
-      {"bad param", "kind='synth'\nunit='fp_add'\nformat='e5m10'\nstages=0\n[param]\nBogus=1\n", "param"},
+      {"bad param", "kind='synth'\nunit='fp_add'\nformat='e5m10'\nstages=0\n[param]\nBogus=1\n", "param: fp_add has no parameter 'Bogus'"},
       {"nested axis", "kind='synth'\nunit='fp_add'\nformat=[['e5m10']]\nstages=0\n", "key 'format': must be a string"},
       {"repeated value", "kind='synth'\nunit='fp_add'\nformat=['e5m10','e5m10']\nstages=0\n", "appears twice"},
       {"study without study", "kind='study'\nformat='e5m10'\n", "key 'study'"},
@@ -460,6 +472,11 @@ TEST_F(Sweep, InterruptLeavesAConsistentTableAndARerunCompletesIt) {
     if (sig == SIGTERM) {
       EXPECT_EQ(res.exit_code, 130) << slurp(dir() / "runner.err");
     }
+    // The jobs die with the runner (SIGTERM: it stops them; SIGKILL: their parent-death signal).
+    const auto t1 = std::chrono::steady_clock::now();
+    while (processes_in(out) > 0 && std::chrono::steady_clock::now() - t1 < std::chrono::seconds(20))
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    EXPECT_EQ(processes_in(out), 0) << "a job outlived its runner";
     const int recorded = count_lines(slurp(out / "results.jsonl"));
     EXPECT_LT(recorded, 6) << "the runner finished before it was stopped: make the jobs longer";
     EXPECT_EQ(table_problem(out), "");
@@ -476,6 +493,113 @@ TEST_F(Sweep, InterruptLeavesAConsistentTableAndARerunCompletesIt) {
     EXPECT_EQ(read_results(out.string()).size(), 6u);
     EXPECT_EQ(table_problem(out), "");
   }
+}
+
+// A SIGKILLed runner cannot stop its jobs itself: they get SIGTERM as their parent dies
+// (util::ProcessOptions::parent_death_signal), instead of running on for minutes.
+TEST_F(Sweep, JobsOfAKilledRunnerStop) {
+  const fs::path g = grid("g.toml", box_grid({"e8m23"}, 5000000));  // tens of seconds
+  const fs::path out = dir() / "s";
+  ru::util::ProcessOptions o;
+  o.out = o.err = ru::util::Redirect::null();
+  ru::util::Child runner({rayunits_exe(), "sweep", g.string(), "--out", out.string()}, o);
+  const auto t0 = std::chrono::steady_clock::now();
+  while (processes_in(out) == 0 && std::chrono::steady_clock::now() - t0 < std::chrono::seconds(60))
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  ASSERT_EQ(processes_in(out), 1) << "the job did not start";
+  ::kill(runner.pid(), SIGKILL);
+  runner.wait();
+  const auto t1 = std::chrono::steady_clock::now();
+  while (processes_in(out) > 0 && std::chrono::steady_clock::now() - t1 < std::chrono::seconds(5))
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  EXPECT_EQ(processes_in(out), 0) << "the job outlived its SIGKILLed runner by 5 s";
+  EXPECT_EQ(count_lines(slurp(out / "results.jsonl")), 0);
+}
+
+TEST_F(Sweep, LibraryRunnerReportsRunningJobsAndChecksEveryJob) {
+  // run_jobs directly: a heartbeat line names the running job while nothing finishes.
+  const Expansion e = expand_grid(box_grid({"e8m23"}, 150000), (dir() / "g.toml").string(), fixed_tool());
+  RunOptions ro;
+  ro.dir = (dir() / "s").string();
+  ro.exe = rayunits_exe();
+  ro.heartbeat_s = 0.2;
+  std::vector<std::string> lines;
+  std::mutex m;
+  ro.progress = [&](const std::string& l) {
+    std::lock_guard<std::mutex> g(m);
+    lines.push_back(l);
+  };
+  const RunSummary sum = run_jobs(e.jobs, ro);
+  EXPECT_EQ(sum.ok, 1u);
+  EXPECT_EQ(sum.failed, 0u);
+  bool beat = false;
+  for (const auto& l : lines) beat = beat || l.find("0/1 done (0 failed), 1 running, ETA ?: study box") != std::string::npos;
+  EXPECT_TRUE(beat) << "no heartbeat line (the job took " << read_results(ro.dir)[0]["wall_s"] << " s)";
+  EXPECT_NE(lines.back().find("1/1 done (0 failed), 0 running, ETA 0s"), std::string::npos) << lines.back();
+  // The per-job check (the CLI parses each synth argv with `rayunits synth`'s parser) runs on
+  // every job; a planted rejection names the job.
+  ExpandOptions o = fixed_tool();
+  int checked = 0;
+  o.check_job = [&](const Job& j) {
+    ++checked;
+    if (j.params["stages"] == 1) throw std::runtime_error("planted");
+  };
+  try {
+    expand_grid(kSynthGrid, (dir() / "g.toml").string(), o);
+    ADD_FAILURE() << "the check did not stop the expansion";
+  } catch (const GridError& err) {
+    EXPECT_NE(std::string(err.what()).find("job synth fp_add format=e5m10 generic_only=true stages=1: planted"),
+              std::string::npos)
+        << err.what();
+  }
+  EXPECT_EQ(checked, 3);
+}
+
+TEST_F(Sweep, RenderAndStudyTriJobsGiveTypedRows) {
+  const fs::path g = grid("g.toml", R"(
+[[grid]]
+kind = "render"
+scene = "sphere"
+format = ["e5m10", "float"]
+size = "24"
+threads = 1
+compare = true
+[[grid]]
+kind = "study"
+study = "tri"
+exp = 8
+frac = 10
+synthetic = 300
+no_decisions = true
+threads = 1
+)");
+  const fs::path out = dir() / "s";
+  const CmdRun r = sweep({g.string(), "--out", out.string(), "-j", "2"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  int renders = 0, tris = 0;
+  for (const auto& row : read_results(out.string())) {
+    ASSERT_EQ(row["status"], "ok") << row;
+    const json& res = row["result"][0];
+    if (row["kind"] == "render") {
+      ++renders;
+      EXPECT_EQ(res["width"], 24);
+      EXPECT_EQ(res["primary_rays"], 24 * 24);
+      EXPECT_EQ(res["format"], row["params"]["format"]);
+      EXPECT_TRUE(res["vs_double"].contains("psnr_db"));
+      EXPECT_TRUE(fs::is_regular_file(out / row["result"][0]["png"].get<std::string>()));
+      if (row["params"]["format"] == "e5m10") {
+        EXPECT_GT(res["soft"]["ops"].get<double>(), 0);  // emulated arithmetic counted
+      }
+    } else {
+      ++tris;
+      EXPECT_EQ(row["kind"], "study tri");
+      EXPECT_EQ(res["exponent_bits"], 8);
+      EXPECT_EQ(res["significand_bits"], 10);
+    }
+  }
+  EXPECT_EQ(renders, 2);
+  EXPECT_EQ(tris, 1);
+  EXPECT_EQ(table_problem(out), "");
 }
 
 TEST_F(Sweep, OneRunnerPerDirectory) {

@@ -13,12 +13,46 @@
 #endif
 
 #include <cmath>
+#include <nlohmann/json.hpp>
 #include <limits>
 #include <stdexcept>
 
 #include "rayunits/render/render.hpp"
 
 namespace ru::render {
+
+nlohmann::json to_json(const RenderStats& s) {
+  return {{"format", s.format},
+          {"build_seconds", s.build_seconds},
+          {"render_seconds", s.render_seconds},
+          {"render_cpu_seconds", s.render_cpu_seconds},
+          {"primary_rays", s.primary_rays},
+          {"shadow_rays", s.shadow_rays},
+          {"box_tests", s.box_tests},
+          {"tri_tests", s.tri_tests},
+          {"noise_evals", s.noise_evals},
+          {"bvh_nodes", s.bvh_nodes},
+          {"sah_cost", s.sah_cost},
+          {"trace_boxes", s.trace_boxes},
+          {"trace_tris", s.trace_tris},
+          {"trace_truncated", s.trace_truncated},
+          {"soft", {{"ops", s.soft.ops},
+                    {"invalid", s.soft.invalid},
+                    {"divzero", s.soft.divzero},
+                    {"overflow", s.soft.overflow},
+                    {"underflow", s.soft.underflow},
+                    {"inexact", s.soft.inexact}}}};
+}
+
+nlohmann::json to_json(const ImageDiff& d) {
+  nlohmann::json j = {{"pixels", d.pixels},
+                      {"errors", d.errors},
+                      {"error_fraction", d.pixels ? double(d.errors) / double(d.pixels) : 0.0},
+                      {"mse", d.mse},
+                      {"max_abs", d.max_abs}};
+  j["psnr_db"] = std::isfinite(d.psnr) ? nlohmann::json(d.psnr) : nlohmann::json();
+  return j;
+}
 
 ImageDiff compare(const Image& test, const Image& ref, double threshold) {
   if (test.width != ref.width || test.height != ref.height)

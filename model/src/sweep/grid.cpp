@@ -17,6 +17,7 @@
 #include "rayunits/synth/args.hpp"
 #include "rayunits/synth/cell.hpp"
 #include "rayunits/synth/flow.hpp"
+#include "rayunits/synth/process.hpp"
 #include "rayunits/synth/units.hpp"
 #include "rayunits/util/git.hpp"
 #include "rayunits/util/hash.hpp"
@@ -137,12 +138,7 @@ void check_existing_file(const json& v) {
     throw std::runtime_error("no such file '" + v.get<std::string>() + "'");
 }
 
-std::string file_hash(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return util::fnv1a64_hex(s.str());
-}
+std::string file_hash(const std::string& path) { return util::fnv1a64_hex(synth::read_file(path)); }
 
 std::string param_or(const json& p, const std::string& k, const std::string& dflt = "") {
   return p.contains(k) ? value_text(p[k]) : dflt;
@@ -381,11 +377,13 @@ Kind render_kind() {
       {"size", T::Str, "--size", check_size, {}, "WxH or N"},
       {"threads", T::Int, "--threads", int_range(1, 64), {}, "render threads"},
       {"no_shadows", T::Bool, "--no-shadows", {}, {}, "primary rays only"},
+      {"compare", T::Bool, "--compare", {}, {}, "also render in double: errors and PSNR against it"},
   };
   k.finish = [](Job& j, const ExpandOptions&) {
     if (j.params.contains("mesh")) j.deps["mesh"] = file_hash(j.params["mesh"].get<std::string>());
-    j.result = j.out_dir + "/image.png";
-    j.argv.push_back("--out=" + j.result);
+    j.result = j.out_dir + "/render.jsonl";
+    j.argv.push_back("--out=" + j.out_dir + "/image.png");
+    j.argv.push_back("--json=" + j.result);
     j.argv.push_back("--quiet");
     return std::string();
   };
@@ -645,11 +643,8 @@ Expansion expand_grid(const std::string& text, const std::string& source, const 
 }
 
 Expansion expand_grid_file(const std::string& path, const ExpandOptions& opt) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw GridError("cannot read grid file '" + path + "'");
-  std::ostringstream s;
-  s << in.rdbuf();
-  return expand_grid(s.str(), path, opt);
+  if (!fs::is_regular_file(path)) throw GridError("cannot read grid file '" + path + "'");
+  return expand_grid(synth::read_file(path), path, opt);
 }
 
 json job_json(const Job& j) {

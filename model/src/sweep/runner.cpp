@@ -3,7 +3,8 @@
 #include <sys/file.h>
 #include <unistd.h>
 
-#include <atomic>
+#include <csignal>
+#include <condition_variable>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
@@ -15,6 +16,7 @@
 #include <mutex>
 #include <set>
 #include <sstream>
+#include <thread>
 
 #include "rayunits/sweep/sweep.hpp"
 #include "rayunits/synth/process.hpp"
@@ -34,12 +36,8 @@ namespace {
   throw std::runtime_error("cannot " + what + " '" + path + "': " + std::strerror(errno));
 }
 
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+// The text of a file; "" when there is none.
+std::string slurp(const std::string& path) { return fs::is_regular_file(path) ? synth::read_file(path) : ""; }
 
 // Appends one whole line with a single write() and makes it durable before returning.
 void append_line(const std::string& path, const std::string& line) {
@@ -275,7 +273,50 @@ RunSummary run_jobs(const std::vector<Job>& jobs, const RunOptions& opt) {
 
   std::mutex m;
   std::size_t finished = 0, running = 0;
+  std::set<std::string> running_labels;
   const auto t0 = std::chrono::steady_clock::now();
+  auto last_line_at = t0;
+  auto eta = [&] {
+    const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const std::size_t left = todo.size() - finished;
+    if (!left) return std::string("0s");
+    if (!finished) return std::string("?");
+    return duration_text(el / static_cast<double>(finished) * static_cast<double>(left));
+  };
+  auto status_line = [&] {  // under m
+    return "[sweep] " + std::to_string(finished) + "/" + std::to_string(todo.size()) + " done (" +
+           std::to_string(sum.failed) + " failed), " + std::to_string(running) + " running, ETA " + eta();
+  };
+  // Heartbeat: the status and what is running when no job finished for a while.
+  std::condition_variable cv;
+  bool over = false;
+  std::thread beat([&] {
+    if (!(opt.heartbeat_s > 0)) return;
+    std::unique_lock<std::mutex> l(m);
+    while (!over) {
+      cv.wait_for(l, std::chrono::duration<double>(opt.heartbeat_s));
+      if (over) break;
+      if (std::chrono::steady_clock::now() - last_line_at < std::chrono::duration<double>(opt.heartbeat_s)) continue;
+      std::string names;
+      for (const auto& n : running_labels) names += (names.empty() ? ": " : "; ") + n;
+      say(status_line() + names);
+      last_line_at = std::chrono::steady_clock::now();
+    }
+  });
+  struct Stop {  // ends the heartbeat however the loop below ends
+    std::mutex& m;
+    std::condition_variable& cv;
+    bool& over;
+    std::thread& t;
+    ~Stop() {
+      {
+        std::lock_guard<std::mutex> l(m);
+        over = true;
+      }
+      cv.notify_all();
+      t.join();
+    }
+  } stop_beat{m, cv, over, beat};
   util::ParallelOptions po;
   po.stop = [] { return util::interrupted(); };
   util::parallel_for(
@@ -285,6 +326,7 @@ RunSummary run_jobs(const std::vector<Job>& jobs, const RunOptions& opt) {
         {
           std::lock_guard<std::mutex> l(m);
           ++running;
+          running_labels.insert(j.label);
         }
         const std::string log_rel = "logs/" + j.hash + ".log";
         const std::string log = (dir / log_rel).string();
@@ -302,6 +344,7 @@ RunSummary run_jobs(const std::vector<Job>& jobs, const RunOptions& opt) {
         p.timeout_s = opt.timeout_s;
         p.out = util::Redirect::file(log, true);
         p.err_to_out = true;
+        p.parent_death_signal = SIGTERM;  // a killed runner takes its jobs along
         util::ProcessResult r;
         try {
           r = util::run_process(argv, p);
@@ -339,6 +382,7 @@ RunSummary run_jobs(const std::vector<Job>& jobs, const RunOptions& opt) {
         row["error"] = error;
         std::lock_guard<std::mutex> l(m);
         --running;
+        running_labels.erase(j.label);
         if (status == "interrupted") {
           ++sum.not_run;
           return;  // not recorded: the job runs again next time
@@ -348,14 +392,10 @@ RunSummary run_jobs(const std::vector<Job>& jobs, const RunOptions& opt) {
         write_csv();
         ++finished;
         (status == "ok" ? sum.ok : sum.failed)++;
-        const double el = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-        const std::size_t left = todo.size() - finished;
         char buf[64];
         std::snprintf(buf, sizeof buf, "%.1f s", r.seconds);
-        say("[sweep] " + std::to_string(finished) + "/" + std::to_string(todo.size()) + " done (" +
-            std::to_string(sum.failed) + " failed), " + std::to_string(running) + " running, ETA " +
-            (left ? duration_text(el / static_cast<double>(finished) * static_cast<double>(left)) : "0s") + ": " +
-            j.label + ": " + status + " " + buf + (error.empty() ? "" : " (" + error + ")"));
+        say(status_line() + ": " + j.label + ": " + status + " " + buf + (error.empty() ? "" : " (" + error + ")"));
+        last_line_at = std::chrono::steady_clock::now();
       },
       po);
   sum.interrupted = util::interrupted();

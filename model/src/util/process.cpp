@@ -4,6 +4,7 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -138,6 +139,8 @@ Child::Child(const std::vector<std::string>& argv, const ProcessOptions& opt) : 
   }
   const char* cwd = opt.cwd.empty() ? nullptr : opt.cwd.c_str();
   const bool group = opt.new_group, merge = opt.err_to_out;
+  const int death_signal = opt.parent_death_signal;
+  const pid_t parent = ::getpid();
   const pid_t pid = ::fork();
   if (pid < 0) {
     const std::string why = std::strerror(errno);
@@ -148,6 +151,10 @@ Child::Child(const std::vector<std::string>& argv, const ProcessOptions& opt) : 
   }
   if (pid == 0) {
     if (group) ::setpgid(0, 0);
+    if (death_signal > 0) {
+      ::prctl(PR_SET_PDEATHSIG, death_signal);
+      if (::getppid() != parent) ::_exit(127);  // the parent died before prctl
+    }
     int e = 0;
     if (cwd && ::chdir(cwd) != 0) e = errno;
     for (int k = 0; k < 3 && !e; ++k)

@@ -9,6 +9,7 @@
 // the binned-SAH build chooses its split planes in double (see docs/RENDER.md).
 #pragma once
 #include <cstdint>
+#include <nlohmann/json_fwd.hpp>
 #include <string>
 #include <vector>
 
@@ -81,6 +82,12 @@ struct ImageDiff {
   double max_abs = 0;
 };
 ImageDiff compare(const Image& test, const Image& ref, double threshold = 0.1);
+
+// The typed rows of a render (`rayunits render --json`, sweep results): every RenderStats field
+// (rays, tests, BVH, seconds, the emulated arithmetic's flag counts) and an ImageDiff's errors,
+// error fraction and PSNR (null for identical images).
+nlohmann::json to_json(const RenderStats& s);
+nlohmann::json to_json(const ImageDiff& d);
 
 // PNG output (stb_image_write): 8 bits per channel, value*255 rounded.
 void write_png(const std::string& path, const Image& img);  // throws std::runtime_error

@@ -78,6 +78,7 @@ struct RunOptions {
   std::string exe;          // the rayunits executable (argv[0] of every job)
   std::string grid_text;    // copied to DIR/grid.toml ("" : not copied)
   std::function<void(const std::string&)> progress;  // one line at a time (stderr in the CLI)
+  double heartbeat_s = 30;  // a status line when no job finished for that long (0: none)
 };
 
 struct RunSummary {

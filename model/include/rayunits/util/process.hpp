@@ -54,6 +54,10 @@ struct ProcessOptions {
   bool err_to_out = false;              // 2>&1 (err is ignored)
   bool stop_on_interrupt = true;        // util::interrupted() stops the child
   bool new_group = true;                // own process group (signalled as a whole)
+  // > 0: the child gets this signal when the thread that started it dies (PR_SET_PDEATHSIG),
+  // e.g. SIGTERM so that the jobs of a SIGKILLed sweep runner stop too. run_process() blocks
+  // that thread until the child ends; with a Child, the starting thread must outlive it.
+  int parent_death_signal = 0;
 };
 
 struct ProcessResult {
