@@ -4,12 +4,11 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include "cli_util.hpp"
 #include "command.hpp"
 #include "rayunits/sweep/sweep.hpp"
+#include "rayunits/synth/process.hpp"
 #include "rayunits/util/interrupt.hpp"
 #include "rayunits/util/process.hpp"
 #include "synth_options.hpp"
@@ -69,14 +68,8 @@ int run_sweep_cmd(int argc, char** argv) {
   app.add_flag("--dry-run", dry, "print the jobs, run nothing");
   if (!parse_args(app, argc, argv)) return 0;
 
-  std::string text;
-  {
-    std::ifstream in(grid, std::ios::binary);
-    if (!in) throw UsageError("cannot read grid file '" + grid + "'");
-    std::ostringstream s;
-    s << in.rdbuf();
-    text = s.str();
-  }
+  if (!fs::is_regular_file(grid)) throw UsageError("cannot read grid file '" + grid + "'");
+  const std::string text = synth::read_file(grid);
   sweep::ExpandOptions eo;
   eo.check_job = check_job_argv;
   const sweep::Expansion ex = sweep::expand_grid(text, grid, eo);  // GridError: one line, exit 2
