@@ -32,7 +32,8 @@
 //      at inv_k's zero and at infinity (ru::units::reciprocal_bounds), and each product takes
 //      the end that gives its bound:
 //        tn_k = RDN(dn_k * (dn_k < 0 ? b_k : a_k)),  tf_k = RUP(df_k * (df_k < 0 ? a_k : b_k))
-//      (the sign bit of the difference selects). a_k, b_k are an incrementer and a decrementer
+//      (the sign bit of the difference selects; a zero difference takes the end away from zero,
+//      b_k for inv_k > 0 and a_k for inv_k < 0, so that 0*INF stays the NaN every mode ignores). a_k, b_k are an incrementer and a decrementer
 //      on inv_k's magnitude, computed beside the subtracters (off their path); the cost is the
 //      two incrementers, the second operand register of each multiplier pair and a mux.
 // Fully pipelined: one test per cycle, out_valid_o = in_valid_i delayed by Stages cycles.
@@ -194,9 +195,12 @@ module ru_ray_box #(
         if (neg1[k] && !f_nan(dn[k*W+:W-1])) dn[k*W+W-1] = ~dn[k*W+W-1];
         if (neg1[k] && !f_nan(df[k*W+:W-1])) df[k*W+W-1] = ~df[k*W+W-1];
       end
-      // plain and conservative: ra1 = rb1 = inv
-      rn[k*W+:W] = dn[k*W+W-1] ? rb1[k*W+:W] : ra1[k*W+:W];
-      rf[k*W+:W] = df[k*W+W-1] ? ra1[k*W+:W] : rb1[k*W+:W];
+      // plain and conservative: ra1 = rb1 = inv. A zero difference takes the end away from
+      // zero (inv's sign: a for inv < 0, b for inv > 0), so that 0*INF stays a NaN.
+      if (dn[k*W+:W-1] == '0) rn[k*W+:W] = neg1[k] ? ra1[k*W+:W] : rb1[k*W+:W];
+      else rn[k*W+:W] = dn[k*W+W-1] ? rb1[k*W+:W] : ra1[k*W+:W];
+      if (df[k*W+:W-1] == '0) rf[k*W+:W] = neg1[k] ? ra1[k*W+:W] : rb1[k*W+:W];
+      else rf[k*W+:W] = df[k*W+W-1] ? ra1[k*W+:W] : rb1[k*W+:W];
     end
   end
 

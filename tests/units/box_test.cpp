@@ -351,6 +351,33 @@ TEST(UnitsBox, DConservativeNeverMissesAgainstTheDirection) {
   }
 }
 
+// A ray in a face plane of a closed box, with the plane and the origin at zeros of opposite
+// sign and that direction component +-0 (inv = +-INF): the zero difference must not select the
+// finite end of the reciprocal interval (-0 * max = -0 would be a real t_far bound; the exact
+// test hits at t in [1, 2]). Found by the e3m2 long test; every width, both mirror images.
+TEST(UnitsBox, DConservativeZeroDifferenceInAFacePlane) {
+  for (const char* name : {"e3m2", "e5m10", "e8m23", "e11m52", "e5m10-ftz"}) {
+    SCOPED_TRACE(name);
+    const Format f = Format::parse(name);
+    SoftScope sc(f);
+    for (int mirror = 0; mirror < 2; ++mirror) {
+      SCOPED_TRACE(mirror ? "mirrored in x" : "as found");
+      // as found: o_x = d_x = +0, the box x in [-1, -0]; mirrored: o_x = d_x = -0, x in [+0, 1]
+      const double z = mirror ? -0.0 : 0.0;
+      const Vec3d od{z, 0.5, -1}, dd{z, 0, 1};
+      const Vec3d lo2{mirror ? 0.0 : -1.0, 0, 0}, hi2{mirror ? 1.0 : -0.0, 1, 1};
+      ASSERT_TRUE(exact_slab_dir(od, dd, lo2, hi2, 0, INFINITY).hit);
+      const Vec3<Soft> o = vcast<Soft>(od), d = vcast<Soft>(dd), lo = vcast<Soft>(lo2), hi = vcast<Soft>(hi2);
+      const Soft one = Soft::from_double(1.0);
+      const Vec3<Soft> inv{one / d.x, one / d.y, one / d.z};
+      const Soft t0 = Soft::from_double(0.0), tinf = Soft::from_double(INFINITY);
+      EXPECT_TRUE(ray_box(o, inv, lo, hi, t0, tinf, BoxMode::DConservative).hit);
+      EXPECT_TRUE(ray_box(o, inv, lo, hi, t0, tinf, BoxMode::Conservative).hit);
+      EXPECT_TRUE(ray_box(o, inv, lo, hi, t0, tinf, BoxMode::Plain).hit);
+    }
+  }
+}
+
 // Rays exactly through a box edge at a non-representable t* = s/q (q odd): from the origin,
 // d_x = q m_x 2^a and d_y = q m_y 2^b, so the planes x = s m_x 2^a and y = s m_y 2^b are
 // representable and the ray enters the x slab exactly where it leaves the y slab (closed box:

@@ -208,6 +208,10 @@ bool fp_is_pos_inf(T x) { return fp_bits(x) == fp_format<T>().inf(false); }
 template <class T>
 bool fp_is_neg_inf(T x) { return fp_bits(x) == fp_format<T>().inf(true); }
 
+// +0 or -0 (bit pattern: exponent and fraction zero; a subnormal is not zero here).
+template <class T>
+bool fp_is_zero(T x) { return (fp_bits(x) & ~fp_format<T>().sign_bit()) == 0; }
+
 // Sign bit (also of zeros and NaNs).
 template <class T>
 bool fp_signbit(T x) { return (fp_bits(x) & fp_format<T>().sign_bit()) != 0; }

@@ -128,12 +128,17 @@ BoxResult<T> ray_box_reference(const Vec3<T>& o, const Vec3<T>& inv, const Vec3<
       df = ftz_bound(df, fl[1], rf);
       T r_n = inv[k], r_f = inv[k];
       if (mode == BoxMode::DConservative) {
-        // r in [ra, rb] (same sign as inv): the product's lower bound takes ra for x >= 0 and rb
+        // r in [ra, rb] (same sign as inv): the product's lower bound takes ra for x > 0 and rb
         // for x < 0, its upper bound the opposite (x = the directed difference; its sign bit).
+        // A zero x takes the end away from zero (rb for inv > 0, ra for inv < 0): its product
+        // is then 0*INF = NaN (ignored) whenever the interval reaches infinity, as in the other
+        // modes; with the sign of a zero selecting, -0 * max = -0 became a real bound for a ray
+        // in a face plane (d_k = +-0; issue 14, found by the e3m2 long test).
         T ra, rb;
         reciprocal_bounds(inv[k], ra, rb);
-        r_n = fp_signbit(dn) ? rb : ra;
-        r_f = fp_signbit(df) ? ra : rb;
+        const T away = neg ? ra : rb;
+        r_n = fp_is_zero(dn) ? away : fp_signbit(dn) ? rb : ra;
+        r_f = fp_is_zero(df) ? away : fp_signbit(df) ? ra : rb;
       }
       tn[k] = fp_mul_round(dn, r_n, Round::RDN, &fl[2]);
       tn[k] = ftz_bound(tn[k], fl[2], Round::RDN);
