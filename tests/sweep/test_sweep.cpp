@@ -183,6 +183,14 @@ generic_only = true
   // The RTL the unit is built from is part of the hash (deps.rtl_sources from the registry's list).
   for (const Job& j : a.jobs) EXPECT_EQ(j.deps["rtl_sources"].get<std::string>().size(), 16u);
   EXPECT_NE(a.jobs[0].deps["rtl_sources"], a.jobs[1].deps["rtl_sources"]);  // fp_add vs fp_mul
+  EXPECT_FALSE(a.jobs[0].deps.contains("liberty"));  // generic flow
+  const Expansion cell = expand_grid("kind='synth'\nunit='fp_add'\nformat='e5m10'\nstages=0\nflow=['osu018','osu035']\n",
+                                     (dir() / "g.toml").string(), fixed_tool());
+  ASSERT_EQ(cell.jobs.size(), 2u);
+  EXPECT_TRUE(cell.jobs[0].deps.contains("liberty"));
+  if (cell.jobs[0].deps["liberty"] != "missing") {
+    EXPECT_NE(cell.jobs[0].deps["liberty"], cell.jobs[1].deps["liberty"]);
+  }
   // The default tool id names this repository's model/ tree.
   EXPECT_EQ(tool_id(RU_SOURCE_DIR).rfind("rayunits ", 0), 0u);
   EXPECT_EQ(tool_id(RU_SOURCE_DIR).find("unknown"), std::string::npos);
@@ -412,7 +420,7 @@ yosys = "/nonexistent/yosys"
 kind = "study"
 study = "box"
 format = ["e5m10", "e8m23"]
-synthetic = [1000, 3000000]
+synthetic = [1000, 1000000]
 threads = 1
 )");
   const fs::path out = dir() / "s";
@@ -429,7 +437,7 @@ threads = 1
       EXPECT_NE(row["error"].get<std::string>().find("yosys not found"), std::string::npos) << row;
     }
     if (st == "timeout") {
-      EXPECT_EQ(row["params"]["synthetic"], 3000000);
+      EXPECT_EQ(row["params"]["synthetic"], 1000000);
       EXPECT_NE(row["error"].get<std::string>().find("timed out"), std::string::npos);
       EXPECT_LT(row["wall_s"].get<double>(), 10);
     }
@@ -498,7 +506,7 @@ TEST_F(Sweep, InterruptLeavesAConsistentTableAndARerunCompletesIt) {
 // A SIGKILLed runner cannot stop its jobs itself: they get SIGTERM as their parent dies
 // (util::ProcessOptions::parent_death_signal), instead of running on for minutes.
 TEST_F(Sweep, JobsOfAKilledRunnerStop) {
-  const fs::path g = grid("g.toml", box_grid({"e8m23"}, 5000000));  // tens of seconds
+  const fs::path g = grid("g.toml", box_grid({"e8m23"}, 2000000));  // 10-30 s; killed within moments of its start
   const fs::path out = dir() / "s";
   ru::util::ProcessOptions o;
   o.out = o.err = ru::util::Redirect::null();

@@ -206,6 +206,13 @@ std::string finish_synth(Job& j, const ExpandOptions&) {
   }
   j.deps["rtl_sources"] = src;
   j.deps["yosys"] = yosys_version_cached(param_or(p, "yosys", "yosys"));
+  if (cell) {  // the cell library's liberty file (areas and timing)
+    try {
+      j.deps["liberty"] = file_hash(synth::cell_library(flow).liberty);
+    } catch (const std::exception&) {
+      j.deps["liberty"] = "missing";  // the job fails with the flow's own message
+    }
+  }
   j.result = j.out_dir + "/synth.jsonl";
   j.argv.push_back("--json=" + j.result);
   return "";
