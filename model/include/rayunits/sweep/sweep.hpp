@@ -79,6 +79,9 @@ struct RunOptions {
   std::string grid_text;    // copied to DIR/grid.toml ("" : not copied)
   std::function<void(const std::string&)> progress;  // one line at a time (stderr in the CLI)
   double heartbeat_s = 30;  // a status line when no job finished for that long (0: none)
+  // results.csv is rewritten after a finished job at most this often (and at the end): it is
+  // a view of results.jsonl, rebuilt from it at every start.
+  double csv_period_s = 2;
 };
 
 struct RunSummary {
@@ -88,7 +91,7 @@ struct RunSummary {
 
 // Writes DIR/jobs.jsonl, runs every job without an ok row (all with force), appends each finished
 // job's row to DIR/results.jsonl (one write + fsync per line) and rewrites DIR/results.csv (temp
-// file + rename) after each. Logs in DIR/logs/<hash>.log.
+// file + rename; see csv_period_s). Logs in DIR/logs/<hash>.log.
 RunSummary run_jobs(const std::vector<Job>& jobs, const RunOptions& opt);
 
 // The rows of DIR/results.jsonl, whole lines only (a torn last line is ignored), the last row
