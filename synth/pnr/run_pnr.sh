@@ -41,6 +41,11 @@
 #                      (row spacing and track estimate; feedthroughs are ignored by qflow's
 #                      osu018 setting anyway) and leave all routing to qrouter. For the noise
 #                      unit it ran > 100 min after a 25 min placement without finishing.
+#   --density D        qflow's initial_density (0 < D <= 1): decongest.tcl adds fill cells before
+#                      placement so that cells cover about D of the core (default: unset, qflow
+#                      packs the rows). Without GrayWolf's global route (which spaces the rows
+#                      for routing) a dense noise unit left 10,383 of its first 28,800 nets
+#                      unrouted in qrouter's first pass.
 #   --no-checks        skip migrate, drc, lvs and gdsii
 #   --until STEP       stop after STEP (the report is still written)
 #   -h, --help         this text
@@ -55,7 +60,7 @@ techdir=/usr/share/qflow/tech/$tech
 die() { echo "$prog: error: $*" >&2; exit 2; }
 usage() { sed -n '2,/^set -u/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'; }
 
-clock_ns=10 work= out= rayunits= step_timeout=14400 niceness=10 redo= fresh=0 checks=1 until= gw_fast=0 gw_groute=on
+clock_ns=10 work= out= rayunits= step_timeout=14400 niceness=10 redo= fresh=0 checks=1 until= gw_fast=0 gw_groute=on density=
 while [ $# -gt 0 ]; do
   case "$1" in
     --clock-ns) [ $# -ge 2 ] || die "--clock-ns needs a value"; clock_ns=$2; shift 2 ;;
@@ -68,10 +73,11 @@ while [ $# -gt 0 ]; do
     --until) [ $# -ge 2 ] || die "--until needs a value"; until=$2; shift 2 ;;
     --graywolf-fast) [ $# -ge 2 ] || die "--graywolf-fast needs a value"; gw_fast=$2; shift 2 ;;
     --graywolf-no-global-route) gw_groute=off; shift ;;
+    --density) [ $# -ge 2 ] || die "--density needs a value"; density=$2; shift 2 ;;
     --fresh) fresh=1; shift ;;
     --no-checks) checks=0; shift ;;
     -h|--help) usage; exit 0 ;;
-    --*) die "unknown option $1 (accepted: --clock-ns --work --out --rayunits --step-timeout --nice --redo --until --graywolf-fast --graywolf-no-global-route --fresh --no-checks --help)" ;;
+    --*) die "unknown option $1 (accepted: --clock-ns --work --out --rayunits --step-timeout --nice --redo --until --graywolf-fast --graywolf-no-global-route --density --fresh --no-checks --help)" ;;
     *) break ;;
   esac
 done
@@ -79,6 +85,7 @@ done
 unit=$1; shift
 unit_args=("$@")
 [[ "$clock_ns" =~ ^[0-9]+(\.[0-9]+)?$ ]] || die "--clock-ns must be a positive number, got '$clock_ns'"
+[ -z "$density" ] || [[ "$density" =~ ^(0\.[0-9]*[1-9][0-9]*|1(\.0*)?)$ ]] || die "--density must be a number in (0, 1], got '$density'"
 [[ "$gw_fast" =~ ^[0-9]+$ ]] || die "--graywolf-fast must be a whole number, got '$gw_fast'"
 [[ "$step_timeout" =~ ^[0-9]+$ ]] || die "--step-timeout must be whole seconds, got '$step_timeout'"
 
@@ -288,11 +295,13 @@ step_place() {
   sed -i '/^TWSC\*fast/d' layout/$top.par
   [ "$gw_fast" = 0 ] || echo "TWSC*fast : $gw_fast" >> layout/$top.par
   sed -i "s/^TWSC\*do\.global\.route.*/TWSC*do.global.route  : $gw_groute/" layout/$top.par
+  sed -i '/^set initial_density/d' project_vars.sh
+  [ -z "$density" ] || echo "set initial_density = $density" >> project_vars.sh
   qf place place.log || return $?
   cp layout/$top.par keep/graywolf.par
   [ ! -f layout/$top.out ] || grep -E '^ *-?[0-9]+: [0-9.e+]+ ' layout/$top.out > keep/graywolf_iterations.txt
 }
-run_step place "graywolf_fast=$gw_fast groute=$gw_groute" synthesize -- step_place
+run_step place "graywolf_fast=$gw_fast groute=$gw_groute density=$density" synthesize -- step_place
 run_step sta "clock=$clock_ns" place -- step_sta
 run_step route 1 place -- qf route route.log
 run_step backanno "clock=$clock_ns" route -- step_backanno
@@ -325,8 +334,9 @@ cat > "$work/meta.json" <<EOF
   "clock_ns": $clock_ns,
   "graywolf_fast": $gw_fast,
   "graywolf_global_route": "$gw_groute",
+  "initial_density": "${density:-unset}",
   "clock_target_mhz": $(awk "BEGIN{printf \"%.1f\", 1000/$clock_ns}"),
-  "command": "synth/pnr/run_pnr.sh --clock-ns $clock_ns$( [ "$gw_fast" = 0 ] || echo " --graywolf-fast $gw_fast")$( [ "$gw_groute" = on ] || echo " --graywolf-no-global-route") $config",
+  "command": "synth/pnr/run_pnr.sh --clock-ns $clock_ns$( [ "$gw_fast" = 0 ] || echo " --graywolf-fast $gw_fast")$( [ "$gw_groute" = on ] || echo " --graywolf-no-global-route")$( [ -z "$density" ] || echo " --density $density") $config",
   "tools": {"qflow": "$(ver qflow)", "yosys": "$(ver yosys)", "graywolf": "$(ver graywolf)",
             "qrouter": "$(ver qrouter)", "magic": "$(ver magic)", "netgen-lvs": "$(ver netgen-lvs)",
             "opensta": "$(ver opensta)", "vesta": "qflow $(ver qflow)"},
