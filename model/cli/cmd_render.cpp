@@ -14,49 +14,63 @@ std::string report_render_section(ru::report::Context& ctx);  // model/src/rende
 namespace ru::cli {
 namespace {
 
-int run_render(int argc, char** argv) {
+}  // namespace
+
+bool parse_render_command(int argc, char** argv, RenderCommand& c) {
   CLI::App app{"Render a scene (Mirth-style: primary rays, hard shadows, Lambert + ambient, noise materials)"};
-  SceneArgs sa;
-  sa.add(app);
-  std::string format = "float", tri = "robust", box = "plain", bvh = "sah", noise = "float", size = "512x512";
-  std::string out, trace_out, diff_out, json_out;
+  c.sa.add(app);
+  std::string size = "512x512";
   uint64_t trace_limit = 0;
   int threads = 2, leaf = 4;
-  bool no_shadows = false, compare = false, quiet = false;
-  app.add_option("--format", format, "double | float | eXmY[-ftz] (emulated format)");
-  app.add_option("--tri", tri, "ray-triangle unit: robust | mt");
-  app.add_option("--box", box, "ray-box unit: plain | conservative");
-  app.add_option("--bvh", bvh, "BVH build: sah (binned SAH) | median (Mirth)");
+  bool no_shadows = false, quiet = false;
+  app.add_option("--format", c.format, "double | float | eXmY[-ftz] (emulated format)");
+  app.add_option("--tri", c.tri, "ray-triangle unit: robust | mt");
+  app.add_option("--box", c.box, "ray-box unit: plain | conservative");
+  app.add_option("--bvh", c.bvh, "BVH build: sah (binned SAH) | median (Mirth)");
   app.add_option("--leaf", leaf, "max triangles per leaf (median: a node with fewer becomes a leaf)");
-  app.add_option("--noise", noise, "noise model of procedural materials: float | fixed (hardware unit)");
+  app.add_option("--noise", c.noise, "noise model of procedural materials: float | fixed (hardware unit)");
   app.add_option("--size", size, "image size WxH (or N)");
   app.add_option("--threads", threads, "render threads")->check(CLI::Range(1, 64));
   app.add_flag("--no-shadows", no_shadows, "primary rays only");
-  app.add_option("--out", out, "output PNG")->required();
-  app.add_option("--trace-out", trace_out, "write the tested ray/box and ray/tri pairs (trace format of docs/UNITS.md)");
+  app.add_option("--out", c.out, "output PNG")->required();
+  app.add_option("--trace-out", c.trace_out, "write the tested ray/box and ray/tri pairs (trace format of docs/UNITS.md)");
   app.add_option("--trace-limit", trace_limit, "stop the trace after this many records (0: all)");
-  app.add_flag("--compare", compare, "also render in double and print errors / PSNR against it");
-  app.add_option("--diff-out", diff_out, "with --compare: write the error map PNG here");
-  app.add_option("--json", json_out, "also write the run as one JSON line (stats; with --compare its errors vs double)");
+  app.add_flag("--compare", c.compare, "also render in double and print errors / PSNR against it");
+  app.add_option("--diff-out", c.diff_out, "with --compare: write the error map PNG here");
+  app.add_option("--json", c.json_out, "also write the run as one JSON line (stats; with --compare its errors vs double)");
   app.add_flag("--quiet", quiet, "no progress lines");
-  if (!parse_args(app, argc, argv)) return 0;
+  if (!parse_args(app, argc, argv)) return false;
 
-  render::RenderOptions opt;
+  render::RenderOptions& opt = c.opt;
   parse_size(size, &opt.width, &opt.height);
-  opt.format = format;
-  opt.tri = parse_or_usage([&] { return render::parse_tri(tri); });
-  opt.box = parse_or_usage([&] { return render::parse_box(box); });
-  opt.bvh = parse_or_usage([&] { return render::parse_bvh(bvh); });
-  opt.noise = parse_or_usage([&] { return render::parse_noise(noise); });
+  opt.format = c.format;
+  opt.tri = parse_or_usage([&] { return render::parse_tri(c.tri); });
+  opt.box = parse_or_usage([&] { return render::parse_box(c.box); });
+  opt.bvh = parse_or_usage([&] { return render::parse_bvh(c.bvh); });
+  opt.noise = parse_or_usage([&] { return render::parse_noise(c.noise); });
   opt.leaf_size = leaf;
   opt.threads = threads;
   opt.shadows = !no_shadows;
   opt.progress = !quiet;
-  opt.trace_path = trace_out;
+  opt.trace_path = c.trace_out;
   opt.trace_limit = trace_limit;
   if (leaf < 1 || leaf > 64) throw UsageError("--leaf must be 1..64");
-  if (format != "double" && format != "float") ru::num::Format::parse(format);  // early one-line error
+  if (c.format != "double" && c.format != "float") ru::num::Format::parse(c.format);  // early one-line error
+  c.sa.check();
+  return true;
+}
 
+namespace {
+
+int run_render(int argc, char** argv) {
+  RenderCommand c;
+  if (!parse_render_command(argc, argv, c)) return 0;
+  const SceneArgs& sa = c.sa;
+  const render::RenderOptions& opt = c.opt;
+  const std::string &format = c.format, &tri = c.tri, &box = c.box, &noise = c.noise, &out = c.out,
+                    &trace_out = c.trace_out, &diff_out = c.diff_out, &json_out = c.json_out;
+  const bool compare = c.compare;
+  const int threads = opt.threads;
   const scene::Scene s = sa.load();
   render::RenderStats st;
   const render::Image img = render::render(s, opt, &st);

@@ -11,6 +11,7 @@
 #include "rayunits/synth/process.hpp"
 #include "rayunits/util/interrupt.hpp"
 #include "rayunits/util/process.hpp"
+#include "render_common.hpp"
 #include "synth_options.hpp"
 
 namespace ru::cli {
@@ -44,13 +45,19 @@ std::string self_exe() {
 // Each job's argv, parsed and checked by the command it runs (as far as that command can be
 // checked without running it).
 void check_job_argv(const sweep::Job& j) {
-  if (j.kind != "synth") return;
-  std::vector<std::string> args(j.argv.begin() + 1, j.argv.end());  // "synth" is argv[0]
+  if (j.kind != "synth" && j.kind != "render") return;
+  std::vector<std::string> args(j.argv.begin() + 1, j.argv.end());  // the command name is argv[0]
   std::vector<char*> av;
   for (auto& a : args) av.push_back(a.data());
   av.push_back(nullptr);
-  SynthCommand sc;
-  parse_synth_command(static_cast<int>(args.size()), av.data(), sc);
+  const int ac = static_cast<int>(args.size());
+  if (j.kind == "synth") {
+    SynthCommand sc;
+    parse_synth_command(ac, av.data(), sc);
+  } else {
+    RenderCommand rc;
+    parse_render_command(ac, av.data(), rc);
+  }
 }
 
 int run_sweep_cmd(int argc, char** argv) {

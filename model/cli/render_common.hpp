@@ -20,30 +20,18 @@ struct SceneArgs {
     app.add_option("--mesh", mesh, "mesh file (OBJ, PLY, OFF, STL, ... via Assimp)");
     app.add_option("--up", up, "up axis of the mesh file: y or z")->check(CLI::IsMember({"y", "z"}));
   }
-  ru::scene::Scene load() const {
+  // The choice itself (one of --scene and --mesh), without loading anything.
+  void check() const {
     if (!mesh.empty() && !scene.empty() && scene != "default")
       throw UsageError("give either --scene or --mesh, not both");
+    if (mesh.empty() && scene.empty()) throw UsageError("give --scene NAME or --mesh FILE");
+  }
+  ru::scene::Scene load() const {
+    check();
     if (!mesh.empty()) return ru::scene::load_mesh(mesh, up[0]);
-    if (scene.empty()) throw UsageError("give --scene NAME or --mesh FILE");
     return ru::scene::make_scene(scene);
   }
 };
-
-// "512x384" or "256" (square).
-inline void parse_size(const std::string& s, int* w, int* h) {
-  char* end = nullptr;
-  long a = std::strtol(s.c_str(), &end, 10);
-  long b = a;
-  if (end && *end == 'x') {
-    const char* p = end + 1;
-    b = std::strtol(p, &end, 10);
-    if (end == p) end = nullptr;
-  }
-  if (!end || *end != '\0' || a < 1 || b < 1 || a > 16384 || b > 16384)
-    throw UsageError("bad --size '" + s + "' (expected WxH or N, 1..16384, e.g. 512x512)");
-  *w = static_cast<int>(a);
-  *h = static_cast<int>(b);
-}
 
 // Wraps std::invalid_argument from the parse_* helpers as usage errors.
 template <class F>
@@ -53,6 +41,22 @@ auto parse_or_usage(F f) -> decltype(f()) {
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
   }
+}
+
+// `rayunits render` arguments, parsed and checked without rendering (cmd_render.cpp; `rayunits
+// sweep` checks every render job with it).
+struct RenderCommand {
+  SceneArgs sa;
+  render::RenderOptions opt;
+  std::string format = "float", tri = "robust", box = "plain", bvh = "sah", noise = "float";
+  std::string out, trace_out, diff_out, json_out;
+  bool compare = false;
+};
+bool parse_render_command(int argc, char** argv, RenderCommand& c);  // false: help was printed
+
+// "512x384" or "256" (square): render::parse_size as a usage error.
+inline void parse_size(const std::string& s, int* w, int* h) {
+  parse_or_usage([&] { render::parse_size(s, w, h); });
 }
 
 }  // namespace ru::cli

@@ -247,7 +247,8 @@ TEST_F(Sweep, BadGridsGiveOneLineNamingTheKeyExit2AndWriteNothing) {
       {"study without study", "kind='study'\nformat='e5m10'\n", "key 'study'"},
       {"study key of another study", "kind='study'\nstudy='box'\nexp=8\n", "key 'exp': unknown key for kind study box"},
       {"render bad scene", "kind='render'\nscene='nowhere'\n", "key 'scene': unknown scene"},
-      {"grid entry", "[[grid]]\nkind='render'\nsize='big'\n", "key 'grid[0].size'"},
+      {"grid entry", "[[grid]]\nkind='render'\nsize='big'\n", "key 'grid[0].size': bad --size 'big'"},
+      {"render without scene", "kind='render'\nformat='e5m10'\n", "key 'scene'/'mesh': a render job needs exactly one"},
       {"toml syntax", "kind = 'synth\n", "g.toml:1"},
   };
   for (const BadGrid& c : cases) {

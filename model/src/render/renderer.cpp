@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <functional>
 #include <memory>
 #include <mutex>
@@ -28,6 +29,21 @@ using num::fp_max;
 using num::fp_min;
 using num::fp_to_double;
 using units::Vec3;
+
+void parse_size(const std::string& s, int* w, int* h) {
+  char* end = nullptr;
+  const long a = std::strtol(s.c_str(), &end, 10);
+  long b = a;
+  if (end && *end == 'x') {
+    const char* p = end + 1;
+    b = std::strtol(p, &end, 10);
+    if (end == p) end = nullptr;
+  }
+  if (!end || *end != '\0' || a < 1 || b < 1 || a > 16384 || b > 16384)
+    throw std::invalid_argument("bad --size '" + s + "' (expected WxH or N, 1..16384, e.g. 512x512)");
+  *w = static_cast<int>(a);
+  *h = static_cast<int>(b);
+}
 
 TriAlgo parse_tri(const std::string& s) {
   if (s == "robust") return TriAlgo::Robust;

@@ -352,20 +352,6 @@ void check_render_format(const json& v) {
   if (s != "double" && s != "float") num::Format::parse(s);
 }
 
-void check_size(const json& v) {
-  const std::string s = v.get<std::string>();
-  char* end = nullptr;
-  const long a = std::strtol(s.c_str(), &end, 10);
-  long b = a;
-  if (end && *end == 'x') {
-    const char* q = end + 1;
-    b = std::strtol(q, &end, 10);
-    if (end == q) end = nullptr;
-  }
-  if (!end || *end || a < 1 || b < 1 || a > 16384 || b > 16384)
-    throw std::runtime_error("bad size '" + s + "' (expected WxH or N, 1..16384)");
-}
-
 Kind render_kind() {
   Kind k;
   k.name = "render";
@@ -381,12 +367,19 @@ Kind render_kind() {
       {"bvh", T::Str, "--bvh", parses(render::parse_bvh), {}, "sah | median"},
       {"noise", T::Str, "--noise", parses(render::parse_noise), {}, "float | fixed"},
       {"leaf", T::Int, "--leaf", int_range(1, 64), {}, "triangles per leaf"},
-      {"size", T::Str, "--size", check_size, {}, "WxH or N"},
+      {"size", T::Str, "--size",
+       [](const json& v) {
+         int w, h;
+         render::parse_size(v.get<std::string>(), &w, &h);
+       },
+       {}, "WxH or N"},
       {"threads", T::Int, "--threads", int_range(1, 64), {}, "render threads"},
       {"no_shadows", T::Bool, "--no-shadows", {}, {}, "primary rays only"},
       {"compare", T::Bool, "--compare", {}, {}, "also render in double: errors and PSNR against it"},
   };
   k.finish = [](Job& j, const ExpandOptions&) {
+    if (j.params.contains("mesh") == j.params.contains("scene"))
+      throw GridError("key 'scene'/'mesh': a render job needs exactly one of scene and mesh");
     if (j.params.contains("mesh")) j.deps["mesh"] = file_hash(j.params["mesh"].get<std::string>());
     j.result = j.out_dir + "/render.jsonl";
     j.argv.push_back("--out=" + j.out_dir + "/image.png");

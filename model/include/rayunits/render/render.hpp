@@ -29,6 +29,9 @@ TriAlgo parse_tri(const std::string& s);      // "robust" | "mt"; throws std::in
 BvhKind parse_bvh(const std::string& s);      // "sah" | "median"
 NoiseMode parse_noise(const std::string& s);  // "float" | "fixed"
 units::BoxMode parse_box(const std::string& s);  // "plain" | "conservative"
+// "512x384" or "256" (square), each side 1..16384; throws std::invalid_argument
+// "bad --size 'x' (expected WxH or N, 1..16384, e.g. 512x512)".
+void parse_size(const std::string& s, int* w, int* h);
 const char* tri_name(TriAlgo a);
 const char* bvh_name(BvhKind k);
 
