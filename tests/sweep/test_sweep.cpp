@@ -27,17 +27,9 @@ using namespace ru::sweep;
 
 std::string rayunits_exe() { return std::string(RU_BINARY_DIR) + "/model/cli/rayunits"; }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-void spit(const fs::path& p, const std::string& text) {
-  std::ofstream out(p, std::ios::binary);
-  out << text;
-}
+// A file's text ("" when there is none) and writing one: the synth helpers.
+std::string slurp(const fs::path& p) { return fs::is_regular_file(p) ? ru::synth::read_file(p.string()) : ""; }
+void spit(const fs::path& p, const std::string& text) { ru::synth::write_file_atomic(p.string(), text); }
 
 struct CmdRun {
   int code;
