@@ -539,6 +539,11 @@ TEST_F(Sweep, LibraryRunnerReportsRunningJobsAndChecksEveryJob) {
   for (const auto& l : lines) beat = beat || l.find("0/1 done (0 failed), 1 running, ETA ?: study box") != std::string::npos;
   EXPECT_TRUE(beat) << "no heartbeat line (the job took " << read_results(ro.dir)[0]["wall_s"] << " s)";
   EXPECT_NE(lines.back().find("1/1 done (0 failed), 0 running, ETA 0s"), std::string::npos) << lines.back();
+  // One job on its own (what a cluster task will do): its row, not written anywhere.
+  const json one = run_one(e.jobs[0], (dir() / "one").string(), ro);
+  EXPECT_EQ(one["status"], "ok");
+  EXPECT_EQ(one["result"], read_results(ro.dir)[0]["result"]);  // deterministic study
+  EXPECT_FALSE(fs::exists(dir() / "one/results.jsonl"));
   // The per-job check (the CLI parses each synth argv with `rayunits synth`'s parser) runs on
   // every job; a planted rejection names the job.
   ExpandOptions o = fixed_tool();

@@ -229,6 +229,64 @@ std::string results_csv(const std::vector<json>& rows) {
   return out;
 }
 
+json run_one(const Job& j, const std::string& dir_, const RunOptions& opt) {
+  const fs::path dir = fs::absolute(dir_);
+  const std::string log_rel = "logs/" + j.hash + ".log";
+  const std::string log = (dir / log_rel).string();
+  fs::create_directories(dir / "logs");
+  fs::create_directories(dir / j.out_dir);
+  std::error_code ec;
+  fs::remove(dir / j.result, ec);  // a stale result of an earlier attempt must not count
+  std::vector<std::string> argv = j.argv;
+  argv[0] = opt.exe;
+  {
+    std::ofstream h(log, std::ios::binary | std::ios::trunc);
+    h << "# " << j.label << "\n# cwd " << dir.string() << "\n# " << util::shell_join(argv) << "\n";
+  }
+  util::ProcessOptions p;
+  p.cwd = dir.string();
+  p.timeout_s = opt.timeout_s;
+  p.out = util::Redirect::file(log, true);
+  p.err_to_out = true;
+  p.parent_death_signal = SIGTERM;  // a killed runner takes its jobs along
+  util::ProcessResult r;
+  try {
+    r = util::run_process(argv, p);
+  } catch (const std::exception& e) {
+    r.started = false;
+    r.error = e.what();
+  }
+  json row = {{"hash", j.hash},     {"index", j.index}, {"kind", j.kind},   {"label", j.label},
+              {"params", j.params}, {"deps", j.deps},   {"argv", j.argv},   {"log", log_rel},
+              {"wall_s", std::round(r.seconds * 1000) / 1000}, {"exit", r.status()},
+              {"finished", now_iso()}};
+  std::string status = "ok", error;
+  if (r.interrupted) {
+    status = "interrupted";
+  } else if (r.timed_out) {
+    status = "timeout";
+    error = "timed out after " + duration_text(opt.timeout_s) + " (--timeout)";
+  } else if (!r.started) {
+    status = "failed";
+    error = r.error.empty() ? "cannot run " + argv[0] : r.error;
+  } else if (r.status() != 0) {
+    status = "failed";
+    error = last_line(log);
+    if (error.empty()) error = "exit status " + std::to_string(r.status());
+  } else {
+    try {
+      row["result"] = read_result(dir / j.result, j.result);
+    } catch (const std::exception& e) {
+      status = "failed";
+      error = e.what();
+    }
+  }
+  if (!row.contains("result")) row["result"] = json::array();
+  row["status"] = status;
+  row["error"] = error;
+  return row;
+}
+
 RunSummary run_jobs(const std::vector<Job>& jobs, const RunOptions& opt) {
   if (opt.exe.empty()) throw std::runtime_error("run_jobs: no rayunits executable");
   const fs::path dir = fs::absolute(opt.dir);
@@ -330,58 +388,8 @@ RunSummary run_jobs(const std::vector<Job>& jobs, const RunOptions& opt) {
           ++running;
           running_labels.insert(j.label);
         }
-        const std::string log_rel = "logs/" + j.hash + ".log";
-        const std::string log = (dir / log_rel).string();
-        fs::create_directories(dir / j.out_dir);
-        std::error_code ec;
-        fs::remove(dir / j.result, ec);  // a stale result of an earlier attempt must not count
-        std::vector<std::string> argv = j.argv;
-        argv[0] = opt.exe;
-        {
-          std::ofstream h(log, std::ios::binary | std::ios::trunc);
-          h << "# " << j.label << "\n# cwd " << dir.string() << "\n# " << util::shell_join(argv) << "\n";
-        }
-        util::ProcessOptions p;
-        p.cwd = dir.string();
-        p.timeout_s = opt.timeout_s;
-        p.out = util::Redirect::file(log, true);
-        p.err_to_out = true;
-        p.parent_death_signal = SIGTERM;  // a killed runner takes its jobs along
-        util::ProcessResult r;
-        try {
-          r = util::run_process(argv, p);
-        } catch (const std::exception& e) {
-          r.started = false;
-          r.error = e.what();
-        }
-        json row = {{"hash", j.hash},     {"index", j.index}, {"kind", j.kind},   {"label", j.label},
-                    {"params", j.params}, {"deps", j.deps},   {"argv", j.argv},   {"log", log_rel},
-                    {"wall_s", std::round(r.seconds * 1000) / 1000}, {"exit", r.status()},
-                    {"finished", now_iso()}};
-        std::string status = "ok", error;
-        if (r.interrupted) {
-          status = "interrupted";
-        } else if (r.timed_out) {
-          status = "timeout";
-          error = "timed out after " + duration_text(opt.timeout_s) + " (--timeout)";
-        } else if (!r.started) {
-          status = "failed";
-          error = r.error.empty() ? "cannot run " + argv[0] : r.error;
-        } else if (r.status() != 0) {
-          status = "failed";
-          error = last_line(log);
-          if (error.empty()) error = "exit status " + std::to_string(r.status());
-        } else {
-          try {
-            row["result"] = read_result(dir / j.result, j.result);
-          } catch (const std::exception& e) {
-            status = "failed";
-            error = e.what();
-          }
-        }
-        if (!row.contains("result")) row["result"] = json::array();
-        row["status"] = status;
-        row["error"] = error;
+        json row = run_one(j, dir.string(), opt);
+        const std::string status = row["status"], error = row["error"];
         std::lock_guard<std::mutex> l(m);
         --running;
         running_labels.erase(j.label);
@@ -401,7 +409,7 @@ RunSummary run_jobs(const std::vector<Job>& jobs, const RunOptions& opt) {
         ++finished;
         (status == "ok" ? sum.ok : sum.failed)++;
         char buf[64];
-        std::snprintf(buf, sizeof buf, "%.1f s", r.seconds);
+        std::snprintf(buf, sizeof buf, "%.1f s", row["wall_s"].get<double>());
         say(status_line() + ": " + j.label + ": " + status + " " + buf + (error.empty() ? "" : " (" + error + ")"));
         last_line_at = std::chrono::steady_clock::now();
       },

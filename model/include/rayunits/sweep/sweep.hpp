@@ -94,6 +94,12 @@ struct RunSummary {
 // file + rename; see csv_period_s). Logs in DIR/logs/<hash>.log.
 RunSummary run_jobs(const std::vector<Job>& jobs, const RunOptions& opt);
 
+// Runs one job in DIR (its log in DIR/logs/<hash>.log, its files in DIR/out/<hash>/; opt.exe and
+// opt.timeout_s apply) and returns its results.jsonl row without writing it: status "ok",
+// "failed", "timeout" or "interrupted" (not recorded by run_jobs). A Slurm array task will run
+// one job through this and write the row to a file of its own.
+nlohmann::json run_one(const Job& job, const std::string& dir, const RunOptions& opt);
+
 // The rows of DIR/results.jsonl, whole lines only (a torn last line is ignored), the last row
 // per hash, in file order of their last appearance.
 std::vector<nlohmann::json> read_results(const std::string& dir);
