@@ -50,7 +50,7 @@ int run_trax_areas(int argc, char** argv) {
   app.add_option("--formats", formats,
                  "comma-separated formats (eXmY[-ftz]; default: every format the table's rows have, else e8m23)");
   app.add_option("--units", units,
-                 "comma-separated: fp_add, fp_mul, fp_div, fp_cmp, ray_box, ray_tri_robust, ray_tri_mt, noise");
+                 "comma-separated: fp_add, fp_mul, fp_div, fp_sqrt, fp_cmp, ray_box, ray_tri_robust, ray_tri_mt, noise");
   app.add_option("--config", config_path, "TRaX configuration whose FP latencies set the Stages (default: built-in)");
   app.add_option("--flow", flow,
                  "osu018 (default: cell library, area-oriented mapping at a 1000 ns target, OpenSTA Fmax), osu035, "
@@ -68,13 +68,12 @@ int run_trax_areas(int argc, char** argv) {
   }
   if (timeout < 1) throw UsageError("--timeout: must be >= 1 second (got " + std::to_string(timeout) + ")");
   const bool cell = synth::is_cell_flow(flow);
-  const std::vector<std::string> trax_units = {"fp_add", "fp_mul", "fp_div", "fp_cmp", "ray_box",
-                                               "ray_tri_robust", "ray_tri_mt", "noise"};
+  std::string accepted;
+  for (const auto& u : trax::area_table_units()) accepted += (accepted.empty() ? "" : ", ") + u;
+  const auto& trax_units = trax::area_table_units();
   for (const std::string& u : split(units))  // all checked before the first (long) run
     if (std::find(trax_units.begin(), trax_units.end(), u) == trax_units.end())
-      throw UsageError("--units: '" + u +
-                       "' is not a TRaX unit (accepted: fp_add, fp_mul, fp_div, fp_cmp, ray_box, ray_tri_robust, "
-                       "ray_tri_mt, noise)");
+      throw UsageError("--units: '" + u + "' is not a TRaX unit (accepted: " + accepted + ")");
   for (const std::string& f : split(formats)) num::Format::parse(f).validate();
 
   trax::Config cfg;
@@ -127,21 +126,7 @@ int run_trax_areas(int argc, char** argv) {
     c.format = F.name();
     for (const std::string& u : split(units)) {
       const synth::UnitSpec& spec = synth::find_unit(u);  // throws on an unknown unit
-      int lat;
-      if (u == "fp_add") lat = c.unit(trax::Unit::FpAdd).latency;
-      else if (u == "fp_mul") lat = c.unit(trax::Unit::FpMul).latency;
-      else if (u == "fp_div") lat = c.unit(trax::Unit::FpDiv).latency;
-      else if (u == "fp_cmp") lat = c.unit(trax::Unit::FpCmp).latency;
-      else if (u == "ray_box") lat = trax::rtl_latency(c, trax::Unit::Box);
-      else if (u == "noise") lat = trax::rtl_latency(c, trax::Unit::Noise);
-      else if (u == "ray_tri_robust" || u == "ray_tri_mt") {
-        c.tri = u == "ray_tri_mt" ? "mt" : "robust";
-        lat = trax::rtl_latency(c, trax::Unit::Tri);
-      } else {
-        throw UsageError("--units: '" + u +
-                         "' is not a TRaX unit (accepted: fp_add, fp_mul, fp_div, fp_cmp, ray_box, ray_tri_robust, "
-                         "ray_tri_mt, noise)");
-      }
+      const int lat = trax::area_table_latency(c, u);
       synth::UnitConfig uc;
       uc.fmt = F;
       const int stages = std::min(lat, spec.max_stages(uc));

@@ -81,8 +81,8 @@ std::string table_json(const std::string& rows) {
 }
 std::string fp_rows() {
   return row("fp_add", "e8m23", 2, 100, 200) + ", " + row("fp_mul", "e8m23", 2, 1000, 150) + ", " +
-         row("fp_div", "e8m23", 16, 5000, 300) + ", " + row("fp_cmp", "e8m23", 1, 10, 400) + ", " +
-         row("noise", "-", 4, 777, 120);
+         row("fp_div", "e8m23", 16, 5000, 300) + ", " + row("fp_sqrt", "e8m23", 16, 2500, 320) + ", " +
+         row("fp_cmp", "e8m23", 1, 10, 400) + ", " + row("noise", "-", 4, 777, 120);
 }
 std::string resolve_error(const std::string& json, const Config& c = default_config()) {
   AreaTable t("areas_err.json", json);
@@ -109,7 +109,7 @@ TEST(TraxAreas, MeasuredComposedAndScaledRows) {
   std::vector<AreaSource> src;
   Config r = resolve_config(c, &src);
   EXPECT_EQ(r.unit(Unit::FpAdd).area, 100);
-  EXPECT_EQ(r.unit(Unit::FpSqrt).area, 5000);
+  EXPECT_EQ(r.unit(Unit::FpSqrt).area, 2500);  // its own row (fp_sqrt has RTL), not fp_div's
   EXPECT_EQ(r.unit(Unit::Noise).area, 777);
   EXPECT_EQ(r.unit(Unit::Box).area, 6670);
   EXPECT_EQ(r.unit(Unit::Tri).area, 58500);
@@ -132,6 +132,7 @@ TEST(TraxAreas, MeasuredComposedAndScaledRows) {
   EXPECT_DOUBLE_EQ(r.unit(Unit::FpCmp).area, 5);
   EXPECT_NEAR(r.unit(Unit::FpMul).area, 1000.0 * 121 / 576, 1e-9);
   EXPECT_NEAR(r.unit(Unit::FpDiv).area, 5000.0 * 121 / 576, 1e-9);
+  EXPECT_NEAR(r.unit(Unit::FpSqrt).area, 2500.0 * 121 / 576, 1e-9);  // e5m10's maximum 13, from Stages 16
   EXPECT_NEAR(r.unit(Unit::Box).area, 6 * 50 + 6 * 1000.0 * 121 / 576 + 7 * 5, 1e-9);  // plain composition
   c.clock_mhz = 500;  // a configured clock is kept
   EXPECT_EQ(resolve_config(c).clock_mhz, 500);
@@ -187,7 +188,7 @@ TEST(TraxAreas, MalformedTableIsOneLineNamingTheRow) {
   std::string wrong_unit = row("fp_mul", "e8m23", 2, 1000);
   wrong_unit.replace(wrong_unit.find("\"unit\": \"fp_mul\""), 16, "\"unit\": \"fp_add\"");
   one_line(resolve_error(table_json(good + ", " + wrong_unit)),
-           "row 6 (fp_add e8m23 Stages 2): command synthesizes 'fp_mul', the row says unit 'fp_add'");
+           "row 7 (fp_add e8m23 Stages 2): command synthesizes 'fp_mul', the row says unit 'fp_add'");
   // a row whose format differs from its command's
   std::string wrong_fmt = row("fp_add", "e7m16", 2, 100);
   wrong_fmt.replace(wrong_fmt.find("\"format\": \"e7m16\""), 17, "\"format\": \"e8m23\"");
@@ -203,7 +204,7 @@ TEST(TraxAreas, MalformedTableIsOneLineNamingTheRow) {
   one_line(resolve_error(table_json(row("fp_add", "e8m23", 2, 100, 0))), "no number \"fmax_mhz\" > 0");
   one_line(resolve_error(table_json(row("fp_dot3", "e8m23", 2, 100))), "unit 'fp_dot3' is not a TRaX unit");
   one_line(resolve_error(table_json(good + ", " + row("fp_add", "e8m23", 2, 100))),
-           "row 6: a second row for fp_add|e8m23|2 in flow osu018");
+           "row 7: a second row for fp_add|e8m23|2 in flow osu018");
   one_line(resolve_error(table_json(row("fp_add", "e9m99", 2, 100))), "row 1 (fp_add e9m99 Stages 2): format:");
   one_line(resolve_error("{\"rows\": [" + good + "]}"), "no \"nand2_cell\"");
   one_line(resolve_error("{\"rows\": [" + good), "not JSON");
@@ -256,7 +257,7 @@ TEST(TraxAreas, CheckedInTableIsComplete) {
     double slowest = 0;
     for (Unit u : {Unit::FpAdd, Unit::FpMul, Unit::FpDiv, Unit::FpSqrt, Unit::FpCmp, Unit::Box, Unit::Tri,
                    Unit::Noise}) {
-      EXPECT_EQ(src[int(u)].how, u == Unit::FpSqrt ? "estimate (= fp_div, no RTL)" : "measured")
+      EXPECT_EQ(src[int(u)].how, "measured")
           << tri << " " << unit_name(u);
       EXPECT_GT(r.unit(u).fmax_mhz, 0);
       if (slowest == 0 || r.unit(u).fmax_mhz < slowest) slowest = r.unit(u).fmax_mhz;
@@ -546,7 +547,7 @@ TEST(LongTraxAreas, MeasuresResumesAndReproducesTheCheckedInRows) {
   r = trax_areas("--units fp_add,fp_dot3 --out '" + out + "'");
   EXPECT_EQ(r.code, 2);
   EXPECT_EQ(r.err, "rayunits trax areas: error: --units: 'fp_dot3' is not a TRaX unit (accepted: fp_add, fp_mul, "
-                   "fp_div, fp_cmp, ray_box, ray_tri_robust, ray_tri_mt, noise)\n");
+                   "fp_div, fp_sqrt, fp_cmp, ray_box, ray_tri_robust, ray_tri_mt, noise)\n");
   r = trax_areas("--flow osu999 --out '" + out + "'");
   EXPECT_EQ(r.code, 2);
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;

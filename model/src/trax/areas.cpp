@@ -48,11 +48,11 @@ std::string key(const std::string& unit, const std::string& fmt, int stages) {
   return unit + "|" + fmt + "|" + std::to_string(stages);
 }
 
-// The units the TRaX model takes from the table.
-const std::vector<std::string>& table_units() {
-  static const std::vector<std::string> u = {"fp_add", "fp_mul", "fp_div", "fp_cmp", "ray_box",
-                                             "ray_tri_robust", "ray_tri_mt", "noise"};
-  return u;
+
+std::string joined_units() {
+  std::string j;
+  for (const auto& u : area_table_units()) j += (j.empty() ? "" : ", ") + u;
+  return j;
 }
 
 // One row of the file -> Row, or a one-line reason (what is wrong) in *why.
@@ -64,9 +64,8 @@ bool parse_row(const nlohmann::json& r, double nand2_um2, std::string* k, Row* r
   if (!r.is_object()) return fail("not a JSON object");
   if (!r.contains("unit") || !r["unit"].is_string()) return fail("no string \"unit\"");
   const std::string unit = r["unit"].get<std::string>();
-  if (std::find(table_units().begin(), table_units().end(), unit) == table_units().end())
-    return fail("unit '" + unit + "' is not a TRaX unit (fp_add, fp_mul, fp_div, fp_cmp, ray_box, ray_tri_robust, "
-                "ray_tri_mt, noise)");
+  if (std::find(area_table_units().begin(), area_table_units().end(), unit) == area_table_units().end())
+    return fail("unit '" + unit + "' is not a TRaX unit (" + joined_units() + ")");
   if (!r.contains("stages") || !r["stages"].is_number_integer() || r["stages"].get<int>() < 0)
     return fail("no integer \"stages\" >= 0");
   const int stages = r["stages"].get<int>();
@@ -231,7 +230,7 @@ bool scaled_estimate(const Loaded& T, const std::string& unit, const std::string
     }
   }
   if (!best) return false;
-  const bool quad = unit == "fp_mul" || unit == "fp_div";
+  const bool quad = unit == "fp_mul" || unit == "fp_div" || unit == "fp_sqrt";
   const double f = quad ? double(F.frac_bits + 1) * (F.frac_bits + 1) / (double(bf.frac_bits + 1) * (bf.frac_bits + 1))
                         : double(F.width()) / bf.width();
   *out = *best;
@@ -267,6 +266,27 @@ const Row& fp_row_at(const Loaded& T, const Config& c, const char* unit, Unit wh
 }
 
 }  // namespace
+
+const std::vector<std::string>& area_table_units() {
+  static const std::vector<std::string> u = {"fp_add", "fp_mul", "fp_div", "fp_sqrt", "fp_cmp", "ray_box",
+                                             "ray_tri_robust", "ray_tri_mt", "noise"};
+  return u;
+}
+
+int area_table_latency(Config& c, const std::string& u) {
+  if (u == "fp_add") return c.unit(Unit::FpAdd).latency;
+  if (u == "fp_mul") return c.unit(Unit::FpMul).latency;
+  if (u == "fp_div") return c.unit(Unit::FpDiv).latency;
+  if (u == "fp_sqrt") return c.unit(Unit::FpSqrt).latency;
+  if (u == "fp_cmp") return c.unit(Unit::FpCmp).latency;
+  if (u == "ray_box") return rtl_latency(c, Unit::Box);
+  if (u == "noise") return rtl_latency(c, Unit::Noise);
+  if (u == "ray_tri_robust" || u == "ray_tri_mt") {
+    c.tri = u == "ray_tri_mt" ? "mt" : "robust";
+    return rtl_latency(c, Unit::Tri);
+  }
+  throw ConfigError("'" + u + "' is not a TRaX unit (accepted: " + joined_units() + ")");
+}
 
 std::string area_table_path() {
   if (const char* e = std::getenv("RU_TRAX_AREAS"); e && *e) return e;
@@ -366,22 +386,22 @@ Config resolve_config(const Config& in, std::vector<AreaSource>* sources) {
     switch (u) {
       case Unit::FpAdd: sunit = "fp_add"; break;
       case Unit::FpMul: sunit = "fp_mul"; break;
-      case Unit::FpDiv:
-      case Unit::FpSqrt: sunit = "fp_div"; break;
+      case Unit::FpDiv: sunit = "fp_div"; break;
+      case Unit::FpSqrt: sunit = "fp_sqrt"; break;
       case Unit::FpCmp: sunit = "fp_cmp"; break;
       case Unit::Box: sunit = "ray_box"; break;
       case Unit::Tri: sunit = c.tri == "mt" ? "ray_tri_mt" : "ray_tri_robust"; break;
       case Unit::Noise: sunit = "noise"; break;
       default: break;
     }
-    src.unit = u == Unit::FpSqrt ? "fp_sqrt" : sunit;
+    src.unit = sunit;
     const std::string f = u == Unit::Noise ? "-" : fmt;
     if (const Row* r = lookup(T, sunit, f, k.latency)) {
       k.area = r->area;
       k.fmax_mhz = r->fmax_mhz;
-      src.how = u == Unit::FpSqrt ? "estimate (= fp_div, no RTL)" : row_how(T, *r);
+      src.how = row_how(T, *r);
       src.detail = r->command;
-      src.fmax_how = r->fmax_mhz > 0 ? (u == Unit::FpSqrt ? "estimate (= fp_div)" : "STA") : "";
+      src.fmax_how = r->fmax_mhz > 0 ? "STA" : "";
     } else if (u == Unit::Box || u == Unit::Tri) {
       // composed from the chip's FP units of this format (at their latencies)
       int na, nm, nd, nc;

@@ -108,7 +108,7 @@ Config default_config() {
   c.unit(Unit::FpAdd) = {2, 4, 1, kAreaSynth, 0, 0};
   c.unit(Unit::FpMul) = {2, 4, 1, kAreaSynth, 0, 0};
   c.unit(Unit::FpDiv) = {16, 1, 1, kAreaSynth, 0, 0};
-  c.unit(Unit::FpSqrt) = {16, 1, 1, kAreaSynth, 0, 0};  // no RTL: the area of fp_div
+  c.unit(Unit::FpSqrt) = {16, 1, 1, kAreaSynth, 0, 0};
   c.unit(Unit::FpCmp) = {1, 4, 1, kAreaSynth, 0, 0};
   c.unit(Unit::Conv) = {1, 2, 1, kAreaNand2, 1500, 0};   // estimate: shifter + rounding
   c.unit(Unit::Int) = {1, 8, 1, kAreaNand2, 500, 0};     // estimate: 32-bit adder + logic

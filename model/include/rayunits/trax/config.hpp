@@ -149,11 +149,17 @@ ChipClock sta_clock(const Config& resolved, const std::vector<AreaSource>& sourc
 // The area table's path ($RU_TRAX_AREAS or model/data/trax/areas.json).
 std::string area_table_path();
 
+// The registry units the TRaX model takes from the area table (fp_add ... noise), and the
+// latency (Stages) the chip configuration c gives unit u (its FP latency or its RTL latency;
+// sets c.tri for the triangle units). Throws ConfigError for a unit not in the list.
+const std::vector<std::string>& area_table_units();
+int area_table_latency(Config& c, const std::string& unit);
+
 // Resolves "rtl" latencies, "synth" / NAND2-eq areas (um2) and the "sta" clock from the area
 // table (model/data/trax/areas.json, or $RU_TRAX_AREAS): areas by (unit, format, Stages =
 // latency): a measured row if present (cell flow: area_um2 and fmax_mhz), else box / tri composed
 // from the measured FP-unit rows of the format (box 6 add + 6 mul + 7 cmp; robust 43 add + 39
-// mul + 3 div + 20 cmp; mt 24 add + 27 mul + 1 div + 5 cmp), fp_sqrt = fp_div (no RTL). A
+// mul + 3 div + 20 cmp; mt 24 add + 27 mul + 1 div + 5 cmp). A
 // missing FP row, a malformed row or a missing table throws ConfigError with one line. The
 // "sta" clock is resolved over every unit here; run_trax narrows it to the units the kernel used.
 Config resolve_config(const Config& c, std::vector<AreaSource>* sources = nullptr);
