@@ -268,42 +268,36 @@ def ray_table(cr):
                     f"{format(a['fmax_mhz'], '.1f') if fast_known else ''} | {format(a['period_fo4'], '.1f') if fast_known else ''} | "
                     f"{fmt_int(a['area_um2']) if fast_known else ''} | {fmt_int(b['area_um2'])} | {ns(b['period_ps'])} | "
                     f"{'; '.join(sorted({'`' + r['command'] + '`' for r in rs}))} |")
+    def fast_rows(rs):
+        return [r for r in rs if r["target_clock_ps"] <= 2000]
+
+    def ratio_line(label, ka, kb):
+        """Area ratio of two points: smallest mappings, and fastest mappings where both were run."""
+        ba, bb = smallest(cr[ka]), smallest(cr[kb])
+        line = (f"- {label}: smallest mappings {fmt_int(ba['area_um2'])} / {fmt_int(bb['area_um2'])} um2 = "
+                f"**{ba['area_um2'] / bb['area_um2']:.2f}**")
+        fa, fb = fast_rows(cr[ka]), fast_rows(cr[kb])
+        if fa and fb:
+            line += (f"; fastest mappings {fmt_int(fa[0]['area_um2'])} / {fmt_int(fb[0]['area_um2'])} um2 = "
+                     f"{fa[0]['area_um2'] / fb[0]['area_um2']:.2f} (clocks {ns(fa[0]['period_ps'])} / "
+                     f"{ns(fb[0]['period_ps'])} ns)")
+        return line
+
     ratio = []
     for f in ["e7m16", "e8m23"]:
         for s_r, s_m in [(0, 0), (29, 33)]:
             kr, km = ("ray_tri_robust", f, s_r), ("ray_tri_mt", f, s_m)
             if kr in cr and km in cr:
-                br, bm = smallest(cr[kr]), smallest(cr[km])
-                line = (f"- {f}, robust Stages {s_r} / MT Stages {s_m}: smallest mappings {fmt_int(br['area_um2'])} / "
-                        f"{fmt_int(bm['area_um2'])} um2 = **{br['area_um2'] / bm['area_um2']:.2f}**")
-                fr = [r for r in cr[kr] if r["target_clock_ps"] <= 2000]
-                fm = [r for r in cr[km] if r["target_clock_ps"] <= 2000]
-                if fr and fm:
-                    line += (f"; fastest mappings {fmt_int(fr[0]['area_um2'])} / {fmt_int(fm[0]['area_um2'])} um2 = "
-                             f"{fr[0]['area_um2'] / fm[0]['area_um2']:.2f} (clocks {ns(fr[0]['period_ps'])} / "
-                             f"{ns(fm[0]['period_ps'])} ns)")
-                ratio.append(line)
-    # the variants beside their base circuit (issue 14 sections 3 and 4): smallest mappings
+                ratio.append(ratio_line(f"{f}, robust Stages {s_r} / MT Stages {s_m}", kr, km))
+    # the variants beside their base circuit and a second reference (issue 14 sections 3 and 4)
     for var, base, other in [("ray_tri_robust OptRecip=1", "ray_tri_robust", "ray_tri_mt"),
                              ("ray_box OptConservative=1", "ray_box", None),
                              ("ray_box OptConservative=2", "ray_box", "ray_box OptConservative=1")]:
         for k in sorted(k for k in cr if k[0] == var):
-            kb = (base, k[1], k[2])
-            if kb not in cr:
-                continue
-            bv, bb = smallest(cr[k]), smallest(cr[kb])
-            line = (f"- {k[1]} Stages {k[2]}, {var} / {base}: smallest mappings {fmt_int(bv['area_um2'])} / "
-                    f"{fmt_int(bb['area_um2'])} um2 = **{bv['area_um2'] / bb['area_um2']:.2f}**")
-            fv = [r for r in cr[k] if r["target_clock_ps"] <= 2000]
-            fb = [r for r in cr[kb] if r["target_clock_ps"] <= 2000]
-            if fv and fb:
-                line += (f"; fastest {ns(fv[0]['period_ps'])} / {ns(fb[0]['period_ps'])} ns, "
-                         f"{fmt_int(fv[0]['area_um2'])} / {fmt_int(fb[0]['area_um2'])} um2")
-            ko = (other, k[1], k[2]) if other else None
-            if ko in cr:
-                bo = smallest(cr[ko])
-                line += f"; against {other}: {bv['area_um2'] / bo['area_um2']:.2f}"
-            ratio.append(line)
+            for ref in (base, other):
+                kb = (ref, k[1], k[2]) if ref else None
+                if kb in cr:
+                    ratio.append(ratio_line(f"{k[1]} Stages {k[2]}, {var} / {ref}", k, kb))
     return lines, ratio
 
 
