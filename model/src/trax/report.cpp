@@ -2,6 +2,8 @@
 #include <cstdio>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "rayunits/trax/trax.hpp"
 
 namespace ru::trax {
@@ -52,15 +54,6 @@ std::string num(double v, const char* fmt = "%.6g") {
   std::snprintf(b, sizeof b, fmt, v);
   return b;
 }
-std::string esc(const std::string& s) {
-  std::string o;
-  for (char ch : s) {
-    if (ch == '"' || ch == '\\') o += '\\';
-    if (static_cast<unsigned char>(ch) < 0x20) continue;
-    o += ch;
-  }
-  return o;
-}
 double dram_gbps(const TraxResult& r) {
   const double s = r.seconds();
   return s > 0 ? double(r.sim.dram_read_bytes + r.sim.dram_write_bytes) / s / 1e9 : 0.0;
@@ -78,55 +71,75 @@ std::string summary_line(const TraxResult& r) {
 std::string summary_json(const TraxResult& r, const std::string& scene_name, const std::string& command) {
   const SimStats& s = r.sim;
   const Config& c = r.cfg;
-  std::ostringstream o;
-  o << "{\n  \"command\": \"" << esc(command) << "\",\n  \"scene\": \"" << esc(scene_name) << "\",\n"
-    << "  \"width\": " << r.image.width << ", \"height\": " << r.image.height << ",\n"
-    << "  \"format\": \"" << c.format << "\", \"tri\": \"" << c.tri << "\", \"box\": \"" << c.box
-    << "\", \"noise\": \"" << c.noise << "\", \"traversal\": \"" << c.traversal << "\", \"bvh\": \"" << c.bvh
-    << "\",\n  \"tms\": " << c.tms << ", \"tps_per_tm\": " << c.tps_per_tm << ", \"clock_mhz\": " << num(c.clock_mhz)
-    << ", \"clock_source\": \"" << esc(r.clock.how) << "\""
-    << ",\n  \"cycles\": " << s.cycles << ", \"rays\": " << r.rays() << ", \"primary_rays\": " << r.primary_rays
-    << ", \"shadow_rays\": " << r.shadow_rays << ",\n  \"rays_per_s\": " << num(r.rays_per_second())
-    << ", \"frames_per_s\": " << num(r.seconds() > 0 ? 1.0 / r.seconds() : 0.0)
-    << ",\n  \"instructions\": " << s.instructions << ", \"issue_rate\": " << num(s.issue_rate(c))
-    << ",\n  \"box_tests\": " << r.box_tests << ", \"tri_tests\": " << r.tri_tests << ", \"noise_evals\": "
-    << r.noise_evals << ", \"node_visits\": " << r.node_visits << ", \"up_steps\": " << r.up_steps
-    << ", \"max_stack_entries\": " << r.max_stack << ", \"max_live_registers\": " << s.max_live_registers
-    << ",\n  \"bvh_nodes\": " << r.bvh_nodes << ", \"bvh_depth\": " << r.bvh_depth << ",\n  \"ops\": {";
-  for (int i = 0; i < kOps; ++i)
-    o << (i ? ", " : "") << "\"" << op_name(static_cast<Op>(i)) << "\": " << s.op_count[i];
-  o << "},\n  \"units\": {";
-  bool first = true;
+  using J = nlohmann::ordered_json;  // fields in the documented order
+  J o;
+  o["command"] = command;
+  o["scene"] = scene_name;
+  o["width"] = r.image.width;
+  o["height"] = r.image.height;
+  o["format"] = c.format;
+  o["tri"] = c.tri;
+  o["box"] = c.box;
+  o["noise"] = c.noise;
+  o["traversal"] = c.traversal;
+  o["bvh"] = c.bvh;
+  o["tms"] = c.tms;
+  o["tps_per_tm"] = c.tps_per_tm;
+  o["clock_mhz"] = c.clock_mhz;
+  o["clock_source"] = r.clock.how;
+  o["cycles"] = s.cycles;
+  o["rays"] = r.rays();
+  o["primary_rays"] = r.primary_rays;
+  o["shadow_rays"] = r.shadow_rays;
+  o["rays_per_s"] = r.rays_per_second();
+  o["frames_per_s"] = r.seconds() > 0 ? 1.0 / r.seconds() : 0.0;
+  o["instructions"] = s.instructions;
+  o["issue_rate"] = s.issue_rate(c);
+  o["box_tests"] = r.box_tests;
+  o["tri_tests"] = r.tri_tests;
+  o["noise_evals"] = r.noise_evals;
+  o["node_visits"] = r.node_visits;
+  o["up_steps"] = r.up_steps;
+  o["max_stack_entries"] = r.max_stack;
+  o["max_live_registers"] = s.max_live_registers;
+  o["bvh_nodes"] = r.bvh_nodes;
+  o["bvh_depth"] = r.bvh_depth;
+  J ops = J::object();
+  for (int i = 0; i < kOps; ++i) ops[op_name(static_cast<Op>(i))] = s.op_count[i];
+  o["ops"] = ops;
+  J units = J::object();
   for (int u = 0; u < kUnits; ++u) {
     if (!s.unit_ops[u]) continue;
     const UnitCfg& k = c.units[u];
-    o << (first ? "" : ", ") << "\"" << unit_name(static_cast<Unit>(u)) << "\": {\"ops\": " << s.unit_ops[u]
-      << ", \"utilisation\": " << num(s.utilisation(c, static_cast<Unit>(u))) << ", \"latency\": " << k.latency
-      << ", \"count\": " << k.count << ", \"width\": " << k.width << ", \"area_um2\": " << num(k.area)
-      << ", \"fmax_mhz\": " << num(k.fmax_mhz) << "}";
-    first = false;
+    units[unit_name(static_cast<Unit>(u))] = {{"ops", s.unit_ops[u]},
+                                              {"utilisation", s.utilisation(c, static_cast<Unit>(u))},
+                                              {"latency", k.latency},
+                                              {"count", k.count},
+                                              {"width", k.width},
+                                              {"area_um2", k.area},
+                                              {"fmax_mhz", k.fmax_mhz}};
   }
-  o << "},\n  \"stalls\": {\"dependency\": " << s.stall_dependency << ", \"memory\": " << s.stall_memory
-    << ", \"bank_conflicts\": " << s.bank_conflicts << ", \"contention\": " << s.stall_contention
-    << ", \"idle\": " << s.idle << ", \"tp_cycles\": " << num(tp_cycles(r), "%.0f") << "},\n"
-    << "  \"l1\": {\"accesses\": " << s.l1.accesses << ", \"hits\": " << s.l1.hits << ", \"pending_hits\": "
-    << s.l1.pending_hits << ", \"misses\": " << s.l1.misses << ", \"hit_rate\": " << num(s.l1.hit_rate()) << "},\n"
-    << "  \"l2\": {\"accesses\": " << s.l2.accesses << ", \"hits\": " << s.l2.hits << ", \"pending_hits\": "
-    << s.l2.pending_hits << ", \"misses\": " << s.l2.misses << ", \"hit_rate\": " << num(s.l2.hit_rate()) << "},\n"
-    << "  \"dram\": {\"read_bytes\": " << s.dram_read_bytes << ", \"write_bytes\": " << s.dram_write_bytes
-    << ", \"gb_per_s\": " << num(dram_gbps(r)) << "},\n  \"area_um2\": {\"total\": " << num(r.area.total)
-    << ", \"units\": " << num(r.area.units) << ", \"memories\": " << num(r.area.memories)
-    << ", \"estimated\": " << num(r.area.estimated) << ", \"nand2_um2\": " << num(c.nand2_um2) << ", \"items\": [";
-  for (size_t i = 0; i < r.area.items.size(); ++i) {
-    const auto& it = r.area.items[i];
-    o << (i ? ", " : "") << "{\"name\": \"" << esc(it.name) << "\", \"count\": " << num(it.count)
-      << ", \"each\": " << num(it.each) << ", \"total\": " << num(it.total())
-      << ", \"estimate\": " << (it.estimate ? "true" : "false") << "}";
-  }
-  o << "]},\n  \"rays_per_s_per_mm2\": " << num(r.area.total > 0 ? r.rays_per_second() / (r.area.total / 1e6) : 0.0)
-    << ",\n  \"host_seconds\": " << num(s.host_seconds) << ", \"host_instructions_per_s\": "
-    << num(s.host_seconds > 0 ? double(s.instructions) / s.host_seconds : 0.0) << "\n}\n";
-  return o.str();
+  o["units"] = units;
+  o["stalls"] = {{"dependency", s.stall_dependency}, {"memory", s.stall_memory},
+                 {"bank_conflicts", s.bank_conflicts}, {"contention", s.stall_contention},
+                 {"idle", s.idle}, {"tp_cycles", tp_cycles(r)}};
+  auto cache = [](const auto& m) {
+    return J{{"accesses", m.accesses}, {"hits", m.hits}, {"pending_hits", m.pending_hits},
+             {"misses", m.misses}, {"hit_rate", m.hit_rate()}};
+  };
+  o["l1"] = cache(s.l1);
+  o["l2"] = cache(s.l2);
+  o["dram"] = {{"read_bytes", s.dram_read_bytes}, {"write_bytes", s.dram_write_bytes}, {"gb_per_s", dram_gbps(r)}};
+  J items = J::array();
+  for (const auto& it : r.area.items)
+    items.push_back({{"name", it.name}, {"count", it.count}, {"each", it.each}, {"total", it.total()},
+                     {"estimate", it.estimate}});
+  o["area_um2"] = {{"total", r.area.total}, {"units", r.area.units}, {"memories", r.area.memories},
+                   {"estimated", r.area.estimated}, {"nand2_um2", c.nand2_um2}, {"items", items}};
+  o["rays_per_s_per_mm2"] = r.area.total > 0 ? r.rays_per_second() / (r.area.total / 1e6) : 0.0;
+  o["host_seconds"] = s.host_seconds;
+  o["host_instructions_per_s"] = s.host_seconds > 0 ? double(s.instructions) / s.host_seconds : 0.0;
+  return o.dump(2) + "\n";
 }
 
 std::string summary_md(const TraxResult& r, const std::string& scene_name, const std::string& command) {
