@@ -1,6 +1,7 @@
 // TRaX model: RTL-derived latencies, the area table, the issue observer of the co-simulation
 // (hand-computed schedule, operand records against the golden models), study workloads.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <sys/wait.h>
 
@@ -59,7 +60,8 @@ namespace {
 struct AreaTable {
   std::string path;
   explicit AreaTable(const std::string& name, const std::string& json) {
-    path = ::testing::TempDir() + "/" + name;
+    // per process: ctest -j runs these tests as concurrent processes with the same names
+    path = ::testing::TempDir() + "/" + std::to_string(::getpid()) + "_" + name;
     std::ofstream(path) << json;
     setenv("RU_TRAX_AREAS", path.c_str(), 1);
   }
