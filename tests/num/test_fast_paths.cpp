@@ -119,16 +119,6 @@ Result general(const Format& f, Op op, uint64_t a, uint64_t b, uint64_t c) {
     default: return detail::fma_general(f, a, b, c);
   }
 }
-Result entry(const Format& f, Op op, uint64_t a, uint64_t b, uint64_t c) {
-  switch (op) {
-    case Op::Add: return add(f, a, b);
-    case Op::Sub: return sub(f, a, b);
-    case Op::Mul: return mul(f, a, b);
-    case Op::Div: return div(f, a, b);
-    case Op::Sqrt: return sqrt(f, a);
-    default: return fma(f, a, b, c);
-  }
-}
 template <class C>
 bool double_path(const C& k, Op op, uint64_t a, uint64_t b, uint64_t c, Result& r) {
   switch (op) {
@@ -158,7 +148,7 @@ void check_one(Tally& t, const Format& f, Op op, uint64_t a, uint64_t b, uint64_
   const C k(f);
   Result d;
   const bool took = double_path(k, op, a, b, c, d);
-  const Result e = entry_too ? entry(f, op, a, b, c) : g;
+  const Result e = entry_too ? apply(f, op, a, b, c) : g;
   ++t.n;
   t.took += took;
   const bool bad = (took && (d.bits != g.bits || d.flags != g.flags)) || e.bits != g.bits || e.flags != g.flags;

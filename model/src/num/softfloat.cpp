@@ -11,6 +11,7 @@
 
 #include <gmpxx.h>
 
+#include "rayunits/num/detail/bits.hpp"
 #include "rayunits/num/format.hpp"
 
 namespace ru::num {
@@ -349,8 +350,7 @@ uint64_t abs(const Format& f, uint64_t a) { return a & f.mask() & ~f.sign_bit();
 uint64_t neg(const Format& f, uint64_t a) { return (a ^ f.sign_bit()) & f.mask(); }
 
 Result from_double(const Format& f, double d) {
-  uint64_t bits;
-  std::memcpy(&bits, &d, 8);
+  const uint64_t bits = detail::double_bits(d);
   const bool neg = bits >> 63;
   const int e = static_cast<int>((bits >> 52) & 0x7ff);
   const uint64_t fr = bits & ((1ull << 52) - 1);

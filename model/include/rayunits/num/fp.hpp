@@ -28,6 +28,7 @@
 #include <limits>
 #include <type_traits>
 
+#include "rayunits/num/detail/bits.hpp"
 #include "rayunits/num/format.hpp"
 
 namespace ru::num {
@@ -150,33 +151,16 @@ template <>
 inline Format fp_format<Soft>() { return soft_format(); }
 
 // Bit patterns (float/double: the IEEE encoding, identical to e8m23/e11m52).
-inline uint64_t fp_bits(float x) {
-  uint32_t u;
-  std::memcpy(&u, &x, 4);
-  return u;
-}
-inline uint64_t fp_bits(double x) {
-  uint64_t u;
-  std::memcpy(&u, &x, 8);
-  return u;
-}
+inline uint64_t fp_bits(float x) { return detail::float_bits(x); }
+inline uint64_t fp_bits(double x) { return detail::double_bits(x); }
 inline uint64_t fp_bits(Soft x) { return x.bits; }
 
 template <class T>
 T fp_from_bits(uint64_t b);
 template <>
-inline float fp_from_bits<float>(uint64_t b) {
-  uint32_t u = static_cast<uint32_t>(b);
-  float x;
-  std::memcpy(&x, &u, 4);
-  return x;
-}
+inline float fp_from_bits<float>(uint64_t b) { return detail::float_from_bits(static_cast<uint32_t>(b)); }
 template <>
-inline double fp_from_bits<double>(uint64_t b) {
-  double x;
-  std::memcpy(&x, &b, 8);
-  return x;
-}
+inline double fp_from_bits<double>(uint64_t b) { return detail::double_from_bits(b); }
 template <>
 inline Soft fp_from_bits<Soft>(uint64_t b) { return Soft::from_bits(b); }
 

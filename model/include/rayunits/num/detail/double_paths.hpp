@@ -26,6 +26,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "rayunits/num/detail/bits.hpp"
+
 namespace ru::num {
 namespace detail {
 
@@ -39,17 +41,6 @@ inline constexpr bool kDoublePaths = true;
 
 inline constexpr int kDoubleMaxM = 24;  // 2(M+1)+2 <= 53
 
-inline uint64_t dbits(double x) {
-  uint64_t u;
-  std::memcpy(&u, &x, 8);
-  return u;
-}
-inline double dfrom(uint64_t u) {
-  double x;
-  std::memcpy(&x, &u, 8);
-  return x;
-}
-
 // Decodes a finite operand into the double of the same value (FTZ: subnormals read as zero of
 // the same sign). Returns false for INF and NaN.
 template <class C>
@@ -60,17 +51,17 @@ inline bool decode_double(const C& c, bool subn, uint64_t a, double& x) {
   const uint64_t fr = a & ((1ull << M) - 1);
   const uint64_t s = ((a >> (M + c.E)) & 1) << 63;
   if (e - 1 < emask - 1) {  // normal
-    x = dfrom(s | ((e - static_cast<uint64_t>(c.bias) + 1023) << 52) | (fr << (52 - M)));
+    x = double_from_bits(s | ((e - static_cast<uint64_t>(c.bias) + 1023) << 52) | (fr << (52 - M)));
     return true;
   }
   if (e == emask) return false;
   if (fr == 0 || !subn) {
-    x = dfrom(s);
+    x = double_from_bits(s);
     return true;
   }
   // Subnormal: fr * 2^(emin - M), exact (the scale is a double, normal or subnormal, >= 2^-1046).
   const int k = static_cast<int>(1 - c.bias) - M;
-  const double scale = k >= -1022 ? dfrom(static_cast<uint64_t>(k + 1023) << 52) : dfrom(1ull << (k + 1074));
+  const double scale = k >= -1022 ? double_from_bits(static_cast<uint64_t>(k + 1023) << 52) : double_from_bits(1ull << (k + 1074));
   const double v = static_cast<double>(fr) * scale;
   x = s ? -v : v;
   return true;
@@ -162,9 +153,9 @@ template <class C>
 
 // Sign of the TwoSum tail t relative to the magnitude of s (branch-free).
 inline int tail_sign(double s, double t) {
-  const uint64_t tb = dbits(t);
+  const uint64_t tb = double_bits(t);
   const int nz = (tb << 1) != 0;
-  const int opp = static_cast<int>((tb ^ dbits(s)) >> 63);
+  const int opp = static_cast<int>((tb ^ double_bits(s)) >> 63);
   return nz * (1 - 2 * opp);
 }
 
@@ -176,7 +167,7 @@ inline bool add_double(const C& c, bool subn, uint64_t a, uint64_t b, Result& ou
   const double s = x + y;  // TwoSum (Knuth): x + y = s + t exactly
   const double bb = s - x;
   const double t = (x - (s - bb)) + (y - bb);
-  return round_double(c, subn, dbits(s), tail_sign(s, t), true, out);
+  return round_double(c, subn, double_bits(s), tail_sign(s, t), true, out);
 }
 
 template <class C>
@@ -184,7 +175,7 @@ inline bool mul_double(const C& c, bool subn, uint64_t a, uint64_t b, Result& ou
   if (c.M > kDoubleMaxM) return false;
   double x, y;
   if (!decode_double(c, subn, a, x) || !decode_double(c, subn, b, y)) return false;
-  return round_double(c, subn, dbits(x * y), 0, true, out);  // exact if normal
+  return round_double(c, subn, double_bits(x * y), 0, true, out);  // exact if normal
 }
 
 template <class C>
@@ -193,12 +184,12 @@ inline bool fma_double(const C& c, bool subn, uint64_t a, uint64_t b, uint64_t z
   double x, y, w;
   if (!decode_double(c, subn, a, x) || !decode_double(c, subn, b, y) || !decode_double(c, subn, z, w)) return false;
   const double p = x * y;  // exact if normal
-  const uint64_t pe = (dbits(p) >> 52) & 0x7ff;
+  const uint64_t pe = (double_bits(p) >> 52) & 0x7ff;
   if (pe - 1 >= 2046) return false;
   const double s = p + w;
   const double bb = s - p;
   const double t = (p - (s - bb)) + (w - bb);
-  return round_double(c, subn, dbits(s), tail_sign(s, t), true, out);
+  return round_double(c, subn, double_bits(s), tail_sign(s, t), true, out);
 }
 
 template <class C>
@@ -206,7 +197,7 @@ inline bool div_double(const C& c, bool subn, uint64_t a, uint64_t b, Result& ou
   if (c.M > kDoubleMaxM) return false;
   double x, y;
   if (!decode_double(c, subn, a, x) || !decode_double(c, subn, b, y)) return false;
-  return round_double(c, subn, dbits(x / y), 0, false, out);
+  return round_double(c, subn, double_bits(x / y), 0, false, out);
 }
 
 template <class C>
@@ -214,7 +205,7 @@ inline bool sqrt_double(const C& c, bool subn, uint64_t a, Result& out) {
   if (c.M > kDoubleMaxM) return false;
   double x;
   if (!decode_double(c, subn, a, x) || !(x > 0)) return false;  // zeros and negatives: general path
-  return round_double(c, subn, dbits(__builtin_sqrt(x)), 0, false, out);
+  return round_double(c, subn, double_bits(__builtin_sqrt(x)), 0, false, out);
 }
 
 }  // namespace detail
