@@ -229,14 +229,10 @@ BoxCounts check_format(const Format& f, size_t n, uint64_t seed, BoxMode cons_mo
   const std::vector<BoxRecord> recs = property_workload(f, n, seed);
   SoftScope sc(f);
   for (const BoxRecord& rec : recs) {
-    const Vec3<Soft> o = vcast<Soft>(rec.o), inv = vcast<Soft>(rec.inv), lo = vcast<Soft>(rec.lo),
-                     hi = vcast<Soft>(rec.hi);
-    const Soft tmin = Soft::from_double(rec.t_min), tmax = Soft::from_double(rec.t_max);
-    const Vec3d od = vdouble(o), lod = vdouble(lo), hid = vdouble(hi);
-    bool finite = true;
-    for (int k = 0; k < 3; ++k) finite = finite && std::isfinite(od[k]) && std::isfinite(lod[k]) && std::isfinite(hid[k]);
-    if (!finite) continue;
-    const bool exact = exact_slab(od, vdouble(inv), lod, hid, tmin.to_double(), tmax.to_double()).hit;
+    BoxInputs x;
+    if (!box_inputs(rec, x)) continue;
+    const auto& [o, inv, lo, hi, tmin, tmax, od, invd, lod, hid] = x;
+    const bool exact = exact_slab(od, invd, lod, hid, tmin.to_double(), tmax.to_double()).hit;
     const bool cons = ray_box(o, inv, lo, hi, tmin, tmax, cons_mode).hit;
     const bool plain = ray_box(o, inv, lo, hi, tmin, tmax, BoxMode::Plain).hit;
     c.exact_hits += exact;
@@ -286,13 +282,11 @@ DirCounts check_format_dir(const Format& f, size_t n, uint64_t seed, BoxMode mod
   const std::vector<BoxRecord> recs = property_workload(f, n, seed);
   SoftScope sc(f);
   for (const BoxRecord& rec : recs) {
-    const Vec3<Soft> o = vcast<Soft>(rec.o), lo = vcast<Soft>(rec.lo), hi = vcast<Soft>(rec.hi);
-    const Soft tmin = Soft::from_double(rec.t_min), tmax = Soft::from_double(rec.t_max);
-    const Vec3d od = vdouble(o), lod = vdouble(lo), hid = vdouble(hi);
-    bool finite = true;
-    for (int k = 0; k < 3; ++k) finite = finite && std::isfinite(od[k]) && std::isfinite(lod[k]) && std::isfinite(hid[k]);
+    BoxInputs x;
     Vec3<Soft> d, inv;
-    if (!finite || !box_record_direction(rec, d, inv)) continue;
+    if (!box_inputs(rec, x) || !box_record_direction(rec, d, inv)) continue;
+    const auto& [o, given_inv, lo, hi, tmin, tmax, od, invd, lod, hid] = x;
+    (void)given_inv, (void)invd;  // the unit gets inv = RNE(1/d), not the record's
     const bool exact = exact_slab_dir(od, vdouble(d), lod, hid, tmin.to_double(), tmax.to_double()).hit;
     const bool unit = ray_box(o, inv, lo, hi, tmin, tmax, mode).hit;
     ++c.pairs;

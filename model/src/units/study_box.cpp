@@ -16,25 +16,11 @@ using ru::num::Soft;
 
 namespace {
 
-bool finite_geometry(const BoxRecord& r) {
-  for (int k = 0; k < 3; ++k)
-    if (!std::isfinite(r.o[k]) || std::isnan(r.inv[k]) || !std::isfinite(r.lo[k]) || !std::isfinite(r.hi[k]))
-      return false;
-  return !std::isnan(r.t_min) && !std::isnan(r.t_max);
-}
-
 // One record into `c` (the thread's SoftScope is the cell's format).
 void count_record(const BoxRecord& r, BoxCounts& c) {
-  if (!finite_geometry(r)) return;
-  // The unit's inputs: the record rounded into the format (RNE).
-  const Vec3<Soft> o = vcast<Soft>(r.o), inv = vcast<Soft>(r.inv), lo = vcast<Soft>(r.lo), hi = vcast<Soft>(r.hi);
-  const Soft tmin = Soft::from_double(r.t_min), tmax = Soft::from_double(r.t_max);
-  const Vec3d od = vdouble(o), invd = vdouble(inv), lod = vdouble(lo), hid = vdouble(hi);
-  // Overflow while rounding the geometry (e.g. 1e6 scenes in e5): outside the exact test's
-  // domain; the record is not counted for this format.
-  bool finite = true;
-  for (int k = 0; k < 3; ++k) finite = finite && std::isfinite(od[k]) && std::isfinite(lod[k]) && std::isfinite(hid[k]);
-  if (!finite) return;
+  BoxInputs x;
+  if (!box_inputs(r, x)) return;
+  const auto& [o, inv, lo, hi, tmin, tmax, od, invd, lod, hid] = x;
   const bool exact = exact_slab(od, invd, lod, hid, tmin.to_double(), tmax.to_double()).hit;
   const bool plain = ray_box(o, inv, lo, hi, tmin, tmax, BoxMode::Plain).hit;
   const bool cons = ray_box(o, inv, lo, hi, tmin, tmax, BoxMode::Conservative).hit;
@@ -96,6 +82,19 @@ BoxCell run_cell(const Format& fmt, const std::vector<BoxRecord>& recs, const Bo
 }
 
 }  // namespace
+
+bool box_inputs(const BoxRecord& r, BoxInputs& x) {
+  for (int k = 0; k < 3; ++k)
+    if (!std::isfinite(r.o[k]) || std::isnan(r.inv[k]) || !std::isfinite(r.lo[k]) || !std::isfinite(r.hi[k]))
+      return false;
+  if (std::isnan(r.t_min) || std::isnan(r.t_max)) return false;
+  x.o = vcast<Soft>(r.o), x.inv = vcast<Soft>(r.inv), x.lo = vcast<Soft>(r.lo), x.hi = vcast<Soft>(r.hi);
+  x.t_min = Soft::from_double(r.t_min), x.t_max = Soft::from_double(r.t_max);
+  x.od = vdouble(x.o), x.invd = vdouble(x.inv), x.lod = vdouble(x.lo), x.hid = vdouble(x.hi);
+  for (int k = 0; k < 3; ++k)
+    if (!std::isfinite(x.od[k]) || !std::isfinite(x.lod[k]) || !std::isfinite(x.hid[k])) return false;
+  return true;
+}
 
 bool box_record_direction(const BoxRecord& r, Vec3<Soft>& d, Vec3<Soft>& inv) {
   for (int k = 0; k < 3; ++k) {

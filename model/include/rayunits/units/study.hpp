@@ -117,6 +117,17 @@ struct BoxStudyOptions {
 };
 std::vector<BoxCell> study_box(const std::vector<BoxRecord>& recs, const BoxStudyOptions& opt);
 
+// A box record rounded into the current Soft format (SoftScope, RNE): the unit's inputs and their
+// values as doubles for the exact tests. false when the record is outside the exact tests' domain:
+// a non-finite o/lo/hi, a NaN inv/t_min/t_max, or geometry that overflows in the format (e.g. a
+// 1e6 scene in e5). One rule for `study box` and the box property tests.
+struct BoxInputs {
+  Vec3<ru::num::Soft> o, inv, lo, hi;
+  ru::num::Soft t_min, t_max;
+  Vec3d od, invd, lod, hid;
+};
+bool box_inputs(const BoxRecord& r, BoxInputs& x);
+
 // The direction a box record stands for in the current Soft format (SoftScope): d_k = the
 // format's value nearest 1/inv_k (inv_k = +-INF: d_k = +-0), and the reciprocal the renderer
 // gives the unit, inv_k = RNE(1/d_k) computed in the format. false if some d_k is not finite.
