@@ -158,6 +158,39 @@ TEST(Registry, RtlReadmeTableAgrees) {
   }
 }
 
+// The intersection and noise units' table of rtl/README.md ("| unit | useful max `Stages` | e2m1 |
+// ..."): every number is the registry's maximum for that format (and the row's options), so the
+// table is checked, not copied. Rows: "| `ru_<unit>` [`Opt=V`] (levels) | expr | n | n | ... |".
+TEST(Registry, RtlReadmeLevelChainTableAgrees) {
+  const std::string md = slurp(rtl_dir() + "/README.md");
+  std::istringstream in(md);
+  std::vector<std::string> fmts;
+  size_t rows = 0;
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("| unit | useful max `Stages` |", 0) == 0) {
+      std::smatch m;
+      for (std::regex re(R"((e\d+m\d+))"); std::regex_search(line, m, re); line = m.suffix()) fmts.push_back(m[1]);
+      continue;
+    }
+    std::smatch m;
+    if (fmts.empty() || !std::regex_search(line, m, std::regex(R"(^\| `ru_(ray_\w+)`( `(\w+)=(\d+)`)? \([^)]*\) \|[^|]*\|(.*)\|\s*$)")))
+      continue;
+    const UnitSpec& u = find_unit(m[1].str());
+    std::vector<int> vals;
+    std::stringstream cells(m[5].str());
+    for (std::string c; std::getline(cells, c, '|');) vals.push_back(std::stoi(c));
+    ASSERT_EQ(vals.size(), fmts.size()) << line;
+    for (size_t i = 0; i < fmts.size(); ++i) {
+      UnitConfig c{Format::parse(fmts[i]), 0, {}, {}};
+      if (m[2].matched) c.params[m[3].str()] = std::stoll(m[4].str());
+      EXPECT_EQ(u.max_stages(c), vals[i]) << line << " at " << fmts[i];
+    }
+    ++rows;
+  }
+  EXPECT_EQ(fmts.size(), 8u);
+  EXPECT_EQ(rows, 4u) << "ray_box, ray_tri_robust, ray_tri_robust OptRecip=1, ray_tri_mt";
+}
+
 // README.md lists the fast matrix's one-past-the-maximum Stages at e8m23 ("add 6, mul 12, ...");
 // those numbers must be the registry's maximum + 1 (the registry is checked against the RTL above).
 TEST(Registry, ReadmeOnePastTheMaximumAgrees) {
