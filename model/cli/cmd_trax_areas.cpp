@@ -44,13 +44,14 @@ int run_trax_areas(int argc, char** argv) {
                "(model/data/trax/areas.json): for each format, the FP units at the chip's latencies and the box / "
                "triangle / noise units at their RTL Stages (rtl_latency); rows already in the file are kept unless "
                "re-measured"};
-  std::string formats, units = "fp_add,fp_mul,fp_div,fp_cmp,ray_box,noise", config_path, out, flow = "osu018";
+  std::string formats, units = "fp_add,fp_mul,fp_div,fp_sqrt,fp_cmp,ray_box,noise", config_path, out, flow = "osu018";
   int timeout = 1800;
   bool skip_present = false;
   app.add_option("--formats", formats,
                  "comma-separated formats (eXmY[-ftz]; default: every format the table's rows have, else e8m23)");
-  app.add_option("--units", units,
-                 "comma-separated: fp_add, fp_mul, fp_div, fp_sqrt, fp_cmp, ray_box, ray_tri_robust, ray_tri_mt, noise");
+  std::string accepted;
+  for (const auto& u : trax::area_table_units()) accepted += (accepted.empty() ? "" : ", ") + u;
+  app.add_option("--units", units, "comma-separated: " + accepted);
   app.add_option("--config", config_path, "TRaX configuration whose FP latencies set the Stages (default: built-in)");
   app.add_option("--flow", flow,
                  "osu018 (default: cell library, area-oriented mapping at a 1000 ns target, OpenSTA Fmax), osu035, "
@@ -68,8 +69,6 @@ int run_trax_areas(int argc, char** argv) {
   }
   if (timeout < 1) throw UsageError("--timeout: must be >= 1 second (got " + std::to_string(timeout) + ")");
   const bool cell = synth::is_cell_flow(flow);
-  std::string accepted;
-  for (const auto& u : trax::area_table_units()) accepted += (accepted.empty() ? "" : ", ") + u;
   const auto& trax_units = trax::area_table_units();
   for (const std::string& u : split(units))  // all checked before the first (long) run
     if (std::find(trax_units.begin(), trax_units.end(), u) == trax_units.end())
