@@ -341,3 +341,57 @@ TEST(Pareto, CommandOnTheCheckedInChipTableAndBadInput) {
 }
 
 }  // namespace
+
+namespace {
+
+// The checked-in fronts (docs/pareto) are what their recorded commands make today: rerun each
+// command of docs/pareto/*/pareto.md (its second line) into a temporary directory and compare
+// pareto.csv byte for byte (a stale table, or a change of the front logic, fails here).
+TEST(Pareto, CheckedInFrontsAreReproducedByTheirCommands) {
+  int checked = 0;
+  for (const char* name : {"fp_units", "chip", "profile_default"}) {
+    const fs::path dir = fs::path(RU_SOURCE_DIR) / "docs" / "pareto" / name;
+    const std::string md = ru::synth::read_file((dir / "pareto.md").string());
+    const auto a = md.find("`rayunits pareto "), b = md.find('`', a + 1);
+    ASSERT_NE(a, std::string::npos) << name;
+    // split the recorded command (single-quoted words as the command line writes them)
+    std::vector<std::string> words;
+    std::string cur;
+    bool q = false, any = false;
+    for (std::size_t i = a + 1; i < b; ++i) {
+      const char c = md[i];
+      if (c == '\'') { q = !q; any = true; continue; }
+      if (c == ' ' && !q) {
+        if (any || !cur.empty()) words.push_back(cur);
+        cur.clear();
+        any = false;
+        continue;
+      }
+      cur += c;
+    }
+    if (any || !cur.empty()) words.push_back(cur);
+    ASSERT_GE(words.size(), 3u);
+    Tmp t;
+    std::vector<std::string> args(words.begin() + 2, words.end());
+    for (std::size_t i = 0; i < args.size(); ++i)
+      if (args[i] == "--out" && i + 1 < args.size()) args[i + 1] = (t.p / "o").string();
+    args.push_back("--no-plot");
+    // the command's paths are relative to the repository
+    std::vector<std::string> argv = {std::string(RU_BINARY_DIR) + "/model/cli/rayunits", "pareto"};
+    argv.insert(argv.end(), args.begin(), args.end());
+    ru::util::ProcessOptions o;
+    o.cwd = RU_SOURCE_DIR;
+    o.out = ru::util::Redirect::capture();
+    o.err = ru::util::Redirect::capture();
+    o.timeout_s = 300;
+    const auto r = ru::util::run_process(argv, o);
+    ASSERT_EQ(r.status(), 0) << name << ": " << r.err;
+    EXPECT_EQ(ru::synth::read_file((t.p / "o" / "pareto.csv").string()),
+              ru::synth::read_file((dir / "pareto.csv").string()))
+        << name << ": docs/pareto/" << name << "/pareto.csv is not what its command makes today";
+    ++checked;
+  }
+  EXPECT_EQ(checked, 3);
+}
+
+}  // namespace
