@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Installs every Debian package rayunits needs. Idempotent: skips what is present.
-# Usage: scripts/install-deps.sh [--long]   (--long adds the real-scene meshes)
+# Usage: scripts/install-deps.sh [--long]   (--long adds the real-scene meshes and chromium for the report-page test)
 set -euo pipefail
 PKGS=(
   build-essential cmake ninja-build ccache pkg-config git
@@ -14,7 +14,7 @@ PKGS=(
   qflow-tech-osu018 qflow-tech-osu035 qflow-tech-osu050 opensta berkeley-abc
   qflow graywolf qrouter magic netgen-lvs
 )
-if [[ "${1:-}" == "--long" ]]; then PKGS+=(assimp-testmodels libcgal-demo); fi
+if [[ "${1:-}" == "--long" ]]; then PKGS+=(assimp-testmodels libcgal-demo chromium); fi
 missing=()
 for p in "${PKGS[@]}"; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then

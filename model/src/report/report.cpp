@@ -291,6 +291,13 @@ Summary run_report(const Options& opts) {
     md << "\n<a id=\"" << done[i].s.id << "\"></a>\n\n## " << (i + 1) << ". " << done[i].s.title << "\n\n"
        << done[i].md << (done[i].md.empty() || done[i].md.back() == '\n' ? "" : "\n");
   write_file(tmp / "index.md", md.str());
+  {
+    std::vector<std::string> missing;
+    const std::string html = markdown_to_html(md.str(), tmp, "rayunits report", &missing);
+    if (!missing.empty())
+      throw ReportError("index.md names an image the report did not write: " + missing.front());
+    write_file(tmp / "index.html", html);
+  }
 
   nlohmann::json meta;
   meta["command"] = opts.command;

@@ -113,6 +113,13 @@ std::string find_python();                 // $RU_PYTHON, else python3 on PATH, 
 std::filesystem::path scripts_dir();       // $RU_SCRIPTS_DIR, else <source>/scripts
 std::string utc_now_iso8601();
 
+// index.html of a report: the Markdown the report writes as one static, self-contained page
+// (images embedded as data: URIs read from `dir`, sortable tables, an inline load script that
+// writes "images OK/N; sections a,b; verdict ok|broken-images" into <pre id="ru-verdict">).
+// Images that cannot be read are listed in *missing_images (html.cpp).
+std::string markdown_to_html(const std::string& md, const std::filesystem::path& dir, const std::string& title,
+                             std::vector<std::string>* missing_images = nullptr);
+
 // Markdown table from a header and rows (cells are inserted verbatim).
 std::string md_table(const std::vector<std::string>& header, const std::vector<std::vector<std::string>>& rows);
 
