@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Installs every Debian package rayunits needs. Idempotent: skips what is present.
-# Usage: scripts/install-deps.sh [--long]   (--long adds the real-scene meshes and chromium for the report-page test)
+# Usage: scripts/install-deps.sh [--long]   (--long adds the real-scene meshes, chromium for the report-page test
+# and slurm-wlm + munge for the single-node Slurm test tests/sweep/slurm_e2e.sh)
 set -euo pipefail
 PKGS=(
   build-essential cmake ninja-build ccache pkg-config git
@@ -14,7 +15,7 @@ PKGS=(
   qflow-tech-osu018 qflow-tech-osu035 qflow-tech-osu050 opensta berkeley-abc
   qflow graywolf qrouter magic netgen-lvs
 )
-if [[ "${1:-}" == "--long" ]]; then PKGS+=(assimp-testmodels libcgal-demo chromium); fi
+if [[ "${1:-}" == "--long" ]]; then PKGS+=(assimp-testmodels libcgal-demo chromium slurm-wlm munge); fi
 missing=()
 for p in "${PKGS[@]}"; do
   if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then

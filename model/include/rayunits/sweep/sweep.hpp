@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace ru::sweep {
@@ -108,5 +109,75 @@ std::vector<nlohmann::json> read_results(const std::string& dir);
 // every scalar field of the typed result (one CSV line per result row; a job with no result row
 // gets one line).
 std::string results_csv(const std::vector<nlohmann::json>& rows);
+
+// ---- Slurm job arrays (issue 17 §2; model/src/sweep/slurm.cpp, docs/SWEEPS.md) ---------------
+//
+// `--emit-slurm DIR` writes DIR/jobs.jsonl and DIR/sweep.sbatch (an array of one task per job);
+// each task runs `rayunits sweep --run-job DIR/jobs.jsonl:$SLURM_ARRAY_TASK_ID`, which runs that
+// one job (run_one) and writes its row to DIR/results/<index>.json (temp file + rename: tasks
+// never share a file). `--collect DIR` merges those rows into DIR/results.jsonl and results.csv
+// (the local runner's row format and results_csv), and writes DIR/rerun.sbatch for exactly the
+// missing and failed indices.
+
+struct SlurmOptions {
+  std::string exe;        // absolute path of the rayunits binary the tasks run
+  std::string partition;  // --partition ("" : the cluster's default)
+  std::string time;       // --time, Slurm's forms: M, M:S, H:M:S, D-H, D-H:M, D-H:M:S
+  std::string mem;        // --mem: N[K|M|G|T]
+  int cpus = 0;           // --cpus-per-task (0: not set)
+  int max_parallel = 0;   // the %K of --array (0: no limit)
+  double timeout_s = 0;   // passed to --run-job --timeout (0: none)
+  std::string job_name = "rayunits-sweep";
+};
+
+// Throws std::invalid_argument with one line naming the option ("--time '1h': expected ...").
+void check_slurm_options(const SlurmOptions& o);
+
+// The --array= value for these indices: ranges ("0-3", "1,4-6"), then %K if max_parallel > 0.
+std::string array_spec(std::vector<std::size_t> indices, int max_parallel);
+
+// The text of an sbatch script for the sweep directory `dir` (absolute) and these job indices:
+// #SBATCH lines, then `exec 'EXE' sweep --run-job 'DIR/jobs.jsonl':"$SLURM_ARRAY_TASK_ID"`
+// (every path single-quoted with util::shell_quote).
+std::string sbatch_script(const std::string& dir, const std::vector<std::size_t>& indices, const SlurmOptions& o);
+
+// Checks the options, then writes DIR/jobs.jsonl, DIR/slurm.json (the options, for rerun.sbatch),
+// DIR/grid.toml (if grid_text is not empty) and DIR/sweep.sbatch, each to a temporary file
+// renamed into place, and creates DIR/results, DIR/logs and DIR/slurm (the tasks' output).
+// Returns the path of sweep.sbatch.
+std::string emit_slurm(const std::vector<Job>& jobs, const std::string& dir, const SlurmOptions& o,
+                       const std::string& grid_text = "");
+
+// "DIR/jobs.jsonl:3" -> the file and the index (the last ':'); throws std::invalid_argument.
+std::pair<std::string, std::size_t> parse_job_ref(const std::string& ref);
+
+// DIR/results/<index>.json for the sweep directory DIR.
+std::string task_result_path(const std::string& dir, std::size_t index);
+
+struct TaskOutcome {
+  nlohmann::json row;     // the row written (or the ok row found, when skipped)
+  bool skipped = false;   // an ok row of the same hash was there already (and not force)
+  bool written = false;   // false: interrupted (nothing written; the task counts as missing)
+};
+
+// Runs job `index` of the job list `jobs_file` in its directory (run_one with opt.exe and
+// opt.timeout_s) and writes the row to task_result_path atomically (plus "task": host and the
+// SLURM_* ids, when set). An ok row of the same hash is kept unless opt.force.
+TaskOutcome run_task(const std::string& jobs_file, std::size_t index, const RunOptions& opt);
+
+struct CollectSummary {
+  std::size_t total = 0, ok = 0;
+  std::vector<std::size_t> failed, missing;  // job indices
+  std::vector<std::string> problems;         // one line per failed / missing / unreadable task
+  std::string rerun;                         // DIR/rerun.sbatch, "" when nothing is to rerun
+};
+
+// Reads DIR/jobs.jsonl and every DIR/results/<index>.json; a result that is unreadable, of
+// another job (hash or index) or not an object with a status counts as failed. Rewrites
+// DIR/results.jsonl (the task rows in index order, one line each) and DIR/results.csv
+// (results_csv) atomically: the same input gives the same files. Writes DIR/rerun.sbatch for
+// the missing and failed indices with the options of DIR/slurm.json (removes a stale one when
+// there are none).
+CollectSummary collect(const std::string& dir);
 
 }  // namespace ru::sweep
