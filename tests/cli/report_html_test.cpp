@@ -12,6 +12,7 @@
 #include <regex>
 #include <sstream>
 
+#include "../common/run_rayunits.hpp"
 #include "rayunits/report/report.hpp"
 #include "rayunits/util/process.hpp"
 
@@ -101,24 +102,9 @@ TEST(ReportHtml, ConverterOnEveryConstruct) {
   EXPECT_EQ(missing[0], "nosuch.png");
 }
 
-struct Run {
-  int code;
-  std::string out, err;
-};
-Run rayunits(const std::vector<std::string>& args) {
-  std::vector<std::string> argv = {std::string(RU_BINARY_DIR) + "/model/cli/rayunits"};
-  argv.insert(argv.end(), args.begin(), args.end());
-  ru::util::ProcessOptions o;
-  o.out = ru::util::Redirect::capture();
-  o.err = ru::util::Redirect::capture();
-  o.timeout_s = 600;
-  const auto r = ru::util::run_process(argv, o);
-  return {r.status(), r.out, r.err};
-}
-
 // A small report with plots; its index.html embeds every image of index.md.
 void small_report(const fs::path& out) {
-  const Run r = rayunits({"report", "--sections", "accuracy", "--quiet", "--out", out.string(), "--exp", "8",
+  const auto r = ru::test::run_rayunits({"report", "--sections", "accuracy", "--quiet", "--out", out.string(), "--exp", "8",
                           "--frac", "10..11", "--samples", "2000"});
   ASSERT_EQ(r.code, 0) << r.err;
 }

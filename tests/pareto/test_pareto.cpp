@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <random>
 
+#include "../common/run_rayunits.hpp"
 #include "rayunits/pareto/pareto.hpp"
 #include "rayunits/synth/process.hpp"
 #include "rayunits/util/csv.hpp"
@@ -275,19 +276,11 @@ TEST(Pareto, LoadersReadEveryInputKind) {
   EXPECT_EQ(expand_inputs({(t.p / "*.json*").string()}).size(), 3u);  // b.jsonl c.json bad.jsonl
 }
 
-struct CmdRun {
-  int code;
-  std::string out, err;
-};
-CmdRun rayunits(const std::vector<std::string>& args) {
-  std::vector<std::string> argv = {std::string(RU_BINARY_DIR) + "/model/cli/rayunits", "pareto"};
-  argv.insert(argv.end(), args.begin(), args.end());
-  ru::util::ProcessOptions o;
-  o.out = ru::util::Redirect::capture();
-  o.err = ru::util::Redirect::capture();
-  o.timeout_s = 300;
-  const auto r = ru::util::run_process(argv, o);
-  return {r.status(), r.out, r.err};
+// `rayunits pareto ARGS...`
+ru::test::CmdRun rayunits(const std::vector<std::string>& args) {
+  std::vector<std::string> a = {"pareto"};
+  a.insert(a.end(), args.begin(), args.end());
+  return ru::test::run_rayunits(a, 300);
 }
 
 int lines(const std::string& s) {
@@ -300,7 +293,7 @@ TEST(Pareto, CommandOnTheCheckedInChipTableAndBadInput) {
   const std::string chip = std::string(RU_SOURCE_DIR) + "/docs/trax/trax_formats.csv";
   Tmp t;
   const auto out = (t.p / "o").string();
-  CmdRun r = rayunits({chip, "--x", "psnr_db", "--y", "area_mm2", "--z", "rays_per_s", "--target", "psnr_db>=40",
+  ru::test::CmdRun r = rayunits({chip, "--x", "psnr_db", "--y", "area_mm2", "--z", "rays_per_s", "--target", "psnr_db>=40",
                     "--out", out, "--no-plot"});
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("points on the front"), std::string::npos) << r.out;
@@ -377,15 +370,10 @@ TEST(Pareto, CheckedInFrontsAreReproducedByTheirCommands) {
       if (args[i] == "--out" && i + 1 < args.size()) args[i + 1] = (t.p / "o").string();
     args.push_back("--no-plot");
     // the command's paths are relative to the repository
-    std::vector<std::string> argv = {std::string(RU_BINARY_DIR) + "/model/cli/rayunits", "pareto"};
-    argv.insert(argv.end(), args.begin(), args.end());
-    ru::util::ProcessOptions o;
-    o.cwd = RU_SOURCE_DIR;
-    o.out = ru::util::Redirect::capture();
-    o.err = ru::util::Redirect::capture();
-    o.timeout_s = 300;
-    const auto r = ru::util::run_process(argv, o);
-    ASSERT_EQ(r.status(), 0) << name << ": " << r.err;
+    std::vector<std::string> cmd = {"pareto"};
+    cmd.insert(cmd.end(), args.begin(), args.end());
+    const auto r = ru::test::run_rayunits(cmd, 300, RU_SOURCE_DIR);
+    ASSERT_EQ(r.code, 0) << name << ": " << r.err;
     EXPECT_EQ(ru::synth::read_file((t.p / "o" / "pareto.csv").string()),
               ru::synth::read_file((dir / "pareto.csv").string()))
         << name << ": docs/pareto/" << name << "/pareto.csv is not what its command makes today";

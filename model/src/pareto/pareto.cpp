@@ -12,6 +12,7 @@
 
 #include "rayunits/num/format.hpp"
 #include "rayunits/sweep/sweep.hpp"
+#include "rayunits/synth/process.hpp"
 #include "rayunits/util/csv.hpp"
 
 namespace ru::pareto {
@@ -21,11 +22,11 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 std::string read_text(const std::string& path) {
-  std::ifstream f(path, std::ios::binary);
-  if (!f) throw ParetoError("cannot read '" + path + "'");
-  std::ostringstream s;
-  s << f.rdbuf();
-  return s.str();
+  try {
+    return synth::read_file(path);
+  } catch (const std::exception& e) {
+    throw ParetoError(e.what());
+  }
 }
 
 bool ends_with(const std::string& s, const std::string& e) {
