@@ -153,6 +153,8 @@ int run_sweep_cmd(int argc, char** argv) {
   if (grid.empty()) throw UsageError("no grid file (see --help)");
   if (o_emit->count()) {
     if (dry || force || jobs != 1) throw UsageError("--emit-slurm runs nothing: no --dry-run, --force or --jobs");
+    for (auto [opt, v] : {std::pair{o_part, &so.partition}, {o_time, &so.time}, {o_mem, &so.mem}})
+      if (opt->count() && v->empty()) throw UsageError(opt->get_name() + " '': expected a value");
     so.exe = self_exe();
     so.timeout_s = timeout;
     try {

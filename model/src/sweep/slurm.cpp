@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
@@ -84,7 +85,13 @@ std::string number_text(double x) {
 
 void check_slurm_options(const SlurmOptions& o) {
   auto bad = [](const std::string& opt, const std::string& v, const std::string& want) {
-    throw std::invalid_argument(opt + " '" + v + "': expected " + want);
+    std::string shown;  // one line: control characters as \xNN
+    for (unsigned char c : v) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02x", c);
+      shown += c < 0x20 || c == 0x7f ? std::string(buf) : std::string(1, static_cast<char>(c));
+    }
+    throw std::invalid_argument(opt + " '" + shown + "': expected " + want);
   };
   static const std::regex partition("[A-Za-z0-9_.+-]+(,[A-Za-z0-9_.+-]+)*");
   static const std::regex time("[0-9]+|[0-9]+:[0-9]+|[0-9]+:[0-9]+:[0-9]+|[0-9]+-[0-9]+|[0-9]+-[0-9]+:[0-9]+|"
