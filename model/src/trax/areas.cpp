@@ -273,19 +273,23 @@ const std::vector<std::string>& area_table_units() {
   return u;
 }
 
-int area_table_latency(Config& c, const std::string& u) {
-  if (u == "fp_add") return c.unit(Unit::FpAdd).latency;
-  if (u == "fp_mul") return c.unit(Unit::FpMul).latency;
-  if (u == "fp_div") return c.unit(Unit::FpDiv).latency;
-  if (u == "fp_sqrt") return c.unit(Unit::FpSqrt).latency;
-  if (u == "fp_cmp") return c.unit(Unit::FpCmp).latency;
-  if (u == "ray_box") return rtl_latency(c, Unit::Box);
-  if (u == "noise") return rtl_latency(c, Unit::Noise);
-  if (u == "ray_tri_robust" || u == "ray_tri_mt") {
-    c.tri = u == "ray_tri_mt" ? "mt" : "robust";
-    return rtl_latency(c, Unit::Tri);
-  }
+Unit area_table_unit(const std::string& u) {
+  if (u == "fp_add") return Unit::FpAdd;
+  if (u == "fp_mul") return Unit::FpMul;
+  if (u == "fp_div") return Unit::FpDiv;
+  if (u == "fp_sqrt") return Unit::FpSqrt;
+  if (u == "fp_cmp") return Unit::FpCmp;
+  if (u == "ray_box") return Unit::Box;
+  if (u == "noise") return Unit::Noise;
+  if (u == "ray_tri_robust" || u == "ray_tri_mt") return Unit::Tri;
   throw ConfigError("'" + u + "' is not a TRaX unit (accepted: " + joined_units() + ")");
+}
+
+int area_table_latency(Config& c, const std::string& u) {
+  const Unit t = area_table_unit(u);
+  if (t == Unit::Tri) c.tri = u == "ray_tri_mt" ? "mt" : "robust";
+  if (t == Unit::Box || t == Unit::Tri || t == Unit::Noise) return rtl_latency(c, t);
+  return c.unit(t).latency;
 }
 
 std::string area_table_path() {

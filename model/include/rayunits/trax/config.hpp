@@ -154,6 +154,8 @@ std::string area_table_path();
 // sets c.tri for the triangle units). Throws ConfigError for a unit not in the list.
 const std::vector<std::string>& area_table_units();
 int area_table_latency(Config& c, const std::string& unit);
+// The chip's unit kind of a registry unit ("ray_tri_mt" -> Unit::Tri); ConfigError otherwise.
+Unit area_table_unit(const std::string& unit);
 
 // Resolves "rtl" latencies, "synth" / NAND2-eq areas (um2) and the "sta" clock from the area
 // table (model/data/trax/areas.json, or $RU_TRAX_AREAS): areas by (unit, format, Stages =

@@ -1,0 +1,166 @@
+// `rayunits gen --from-profile` (issue 17 §3, "model only what a scene requires"): exactly the
+// profile's units at its format, one directory each, counts and Stages from the chip
+// configuration, the chip datasheet's areas equal to the units' own datasheets, bad input one
+// line with nothing written.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+#include "../common/run_rayunits.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+struct Dir {
+  fs::path p;
+  Dir() {
+    std::string t = (fs::temp_directory_path() / "ru_gen_profile_XXXXXX").string();
+    p = mkdtemp(t.data());
+  }
+  ~Dir() {
+    std::error_code ec;
+    fs::remove_all(p, ec);
+  }
+};
+
+json read_json(const fs::path& p) {
+  std::ifstream f(p);
+  return json::parse(f);
+}
+
+// Each profile gets a file of its own (profile-1.json, ...).
+fs::path write_profile(const fs::path& dir, const json& units, const json& format = "e5m10") {
+  static int n = 0;
+  const fs::path p = dir / ("profile-" + std::to_string(++n) + ".json");
+  std::ofstream(p) << json{{"scene", "test"}, {"units", units}, {"recommended_format", format}, {"tri", "robust"},
+                           {"bvh", "sah"}}
+                          .dump();
+  return p;
+}
+
+std::set<std::string> entries(const fs::path& d) {
+  std::set<std::string> s;
+  for (const auto& e : fs::directory_iterator(d)) s.insert(e.path().filename().string());
+  return s;
+}
+
+int lines(const std::string& s) {
+  int n = 0;
+  for (char c : s) n += c == '\n';
+  return n;
+}
+
+TEST(GenProfile, ExactlyTheProfilesUnitsWithTheChipsCountsAndStages) {
+  Dir d;
+  const auto prof = write_profile(d.p, {"fp_add", "fp_cmp", "fp_sqrt"});
+  const auto out = d.p / "chip";
+  const auto r = ru::test::run_rayunits({"gen", "--from-profile", prof.string(), "--out", out.string(), "--no-synth"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(entries(out), (std::set<std::string>{"chip.json", "chip.md", "fp_add", "fp_cmp", "fp_sqrt"}));
+  const json chip = read_json(out / "chip.json");
+  EXPECT_EQ(chip["format"], "e5m10");
+  ASSERT_EQ(chip["units"].size(), 3u);
+  // the built-in chip (model/data/trax/default.toml): 4 TMs; per TM 4 adders, 4 comparators,
+  // 1 square root; latencies add 2, cmp 1, sqrt 16 — above sqrt's useful maximum at e5m10
+  // (M + 3 = 13), so the unit has 13 Stages and the chip 3 delay registers outside it
+  EXPECT_EQ(chip["units"][0]["count"], 16);
+  EXPECT_EQ(chip["units"][0]["stages"], 2);
+  EXPECT_EQ(chip["units"][0]["top"], "ru_fp_add_e5m10_s2");
+  EXPECT_EQ(chip["units"][1]["count"], 16);
+  EXPECT_EQ(chip["units"][1]["stages"], 1);
+  EXPECT_EQ(chip["units"][2]["count"], 4);
+  EXPECT_EQ(chip["units"][2]["stages"], 13);
+  EXPECT_EQ(chip["units"][2]["chip_latency"], 16);
+  EXPECT_TRUE(fs::exists(out / "fp_add" / "ru_fp_add_e5m10_s2.sv"));
+  // a second run into the same directory needs --force, which replaces it
+  EXPECT_EQ(ru::test::run_rayunits({"gen", "--from-profile", prof.string(), "--out", out.string(), "--no-synth"}).code, 2);
+  const auto p2 = write_profile(d.p, {"fp_mul"});
+  ASSERT_EQ(ru::test::run_rayunits(
+                {"gen", "--from-profile", p2.string(), "--out", out.string(), "--no-synth", "--force"}).code, 0);
+  EXPECT_EQ(entries(out), (std::set<std::string>{"chip.json", "chip.md", "fp_mul"}));
+}
+
+TEST(GenProfile, ChipAreaIsTheSumOfTheUnitsOwnDatasheets) {
+  Dir d;
+  const auto prof = write_profile(d.p, {"fp_cmp", "fp_add"}, "e4m3");
+  const auto out = d.p / "chip";
+  const auto r = ru::test::run_rayunits(
+      {"gen", "--from-profile", prof.string(), "--out", out.string(), "--generic-only"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const json chip = read_json(out / "chip.json");
+  double total = 0;
+  for (const auto& u : chip["units"]) {
+    const json ds = read_json(out / u["dir"].get<std::string>() / "datasheet.json");
+    ASSERT_TRUE(ds["area_nand2"].is_number()) << u["unit"];
+    EXPECT_GT(ds["area_nand2"].get<double>(), 0);
+    EXPECT_EQ(u["area_nand2"].get<double>(), ds["area_nand2"].get<double>()) << u["unit"];
+    total += u["area_nand2"].get<double>() * u["count"].get<int>();
+  }
+  EXPECT_DOUBLE_EQ(chip["total_area_nand2"].get<double>(), total);
+  EXPECT_GT(chip["chip_clock_mhz"].get<double>(), 0);
+}
+
+// --clock: each unit at the fewest Stages whose osu018 STA meets the clock (the clock search of
+// `gen --clock`), recorded in its datasheet; the chip clock is the slowest unit's Fmax.
+TEST(GenProfile, ClockPicksTheFewestStagesMeetingIt) {
+  Dir d;
+  const auto prof = write_profile(d.p, {"fp_cmp"});
+  const auto out = d.p / "chip";
+  const auto r = ru::test::run_rayunits({"gen", "--from-profile", prof.string(), "--out", out.string(), "--clock", "5ns"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  const json chip = read_json(out / "chip.json");
+  ASSERT_EQ(chip["units"].size(), 1u);
+  const json& u = chip["units"][0];
+  const json ds = read_json(out / "fp_cmp" / "datasheet.json");
+  EXPECT_EQ(chip["flow"], "osu018");
+  EXPECT_GE(u["fmax_mhz"].get<double>(), 200.0);  // meets 5 ns
+  EXPECT_EQ(u["stages"], ds["latency"]);  // every unit's latency is its Stages
+  ASSERT_TRUE(ds.contains("clock_search")) << ds.dump();
+  // every probe below the chosen Stages missed the clock, the chosen one met it
+  for (const auto& p : ds["clock_search"]["probes"]) {
+    if (p["stages"].get<int>() < u["stages"].get<int>()) {
+      EXPECT_FALSE(p["met"].get<bool>()) << p;
+    }
+    if (p["stages"] == u["stages"]) {
+      EXPECT_TRUE(p["met"].get<bool>()) << p;
+    }
+  }
+  EXPECT_DOUBLE_EQ(chip["chip_clock_mhz"].get<double>(), u["fmax_mhz"].get<double>());
+}
+
+TEST(GenProfile, BadInputIsOneLineAndWritesNothing) {
+  Dir d;
+  const auto out = d.p / "chip";
+  std::ofstream(d.p / "notjson.json") << "{";
+  const std::vector<std::vector<std::string>> bad = {
+      {"--from-profile", (d.p / "nosuch.json").string()},
+      {"--from-profile", (d.p / "notjson.json").string()},
+      {"--from-profile", write_profile(d.p, {"fp_add", "fp_fancy"}).string()},
+      {"--from-profile", write_profile(d.p, json::array()).string()},
+      {"--from-profile", write_profile(d.p, {"fp_add"}, nullptr).string()},
+      {"--from-profile", write_profile(d.p, {"fp_add"}, "e1m2").string()},
+      {"--from-profile", write_profile(d.p, {"fp_add"}).string(), "--clock", "2ns", "--no-synth"},
+      {"--from-profile", write_profile(d.p, {"fp_add"}).string(), "--bogus"},
+  };
+  for (auto args : bad) {
+    args.insert(args.begin(), "gen");
+    args.push_back("--out");
+    args.push_back(out.string());
+    if (std::find(args.begin(), args.end(), "--clock") == args.end()) args.push_back("--no-synth");
+    const auto r = ru::test::run_rayunits(args);
+    EXPECT_EQ(r.code, 2) << args[2] << ": " << r.err;
+    EXPECT_EQ(lines(r.err), 1) << r.err;
+    EXPECT_FALSE(fs::exists(out)) << args[2];
+  }
+  for (const auto& e : fs::directory_iterator(d.p))  // no temporary directory left behind
+    EXPECT_EQ(e.path().filename().string().find(".chip.tmp"), std::string::npos) << e.path();
+}
+
+}  // namespace
