@@ -65,7 +65,10 @@ struct AreaTable {
     std::ofstream(path) << json;
     setenv("RU_TRAX_AREAS", path.c_str(), 1);
   }
-  ~AreaTable() { unsetenv("RU_TRAX_AREAS"); }
+  ~AreaTable() {
+    unsetenv("RU_TRAX_AREAS");
+    std::remove(path.c_str());
+  }
 };
 // A cell-flow row as `rayunits trax areas` writes it (the fields the model reads).
 std::string row(const char* unit, const char* fmt, int stages, double area, double fmax = 100) {
