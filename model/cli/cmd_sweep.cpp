@@ -51,9 +51,8 @@ std::string sweep_help() {
 }
 
 std::string self_exe() {
-  std::error_code ec;
-  const fs::path p = fs::read_symlink("/proc/self/exe", ec);
-  return ec ? std::string("rayunits") : p.string();
+  const std::string p = util::self_exe();
+  return p.empty() ? std::string("rayunits") : p;
 }
 
 // Each job's argv, parsed and checked by the command it runs (as far as that command can be

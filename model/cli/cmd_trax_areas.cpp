@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "cli_util.hpp"
+#include "rayunits/util/process.hpp"
 #include "rayunits/num/format.hpp"
 #include "rayunits/synth/cell.hpp"
 #include "rayunits/synth/process.hpp"
@@ -115,7 +116,8 @@ int run_trax_areas(int argc, char** argv) {
     fmts.assign(have.begin(), have.end());
     if (fmts.empty()) fmts = {"e8m23"};
   }
-  const std::string self = std::filesystem::read_symlink("/proc/self/exe").string();
+  const std::string self = util::self_exe();
+  if (self.empty()) throw UsageError("cannot find the rayunits executable (/proc/self/exe)");
   synth::TempDir tmp("ru-trax-areas");
   bool noise_done = false;
   for (const std::string& f : fmts) {

@@ -31,9 +31,9 @@ std::string header_line(const Config& c) {
 
 std::string default_executable() {
   if (const char* e = std::getenv("RU_TRAX_COSIM"); e && *e) return e;
-  std::error_code ec;
-  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
-  if (ec) return "tb_trax_cosim";
+  const std::string exe = util::self_exe();
+  if (exe.empty()) return "tb_trax_cosim";
+  const fs::path self = exe;
   // <build>/model/cli/rayunits -> <build>/tb/trax/tb_trax_cosim
   return (self.parent_path().parent_path().parent_path() / "tb" / "trax" / "tb_trax_cosim").string();
 }

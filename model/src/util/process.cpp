@@ -47,6 +47,12 @@ bool drain(int& fd, std::string* s) {
 }
 }  // namespace
 
+std::string self_exe() {
+  char buf[4096];
+  const ssize_t n = ::readlink("/proc/self/exe", buf, sizeof buf - 1);
+  return n > 0 ? std::string(buf, static_cast<std::size_t>(n)) : std::string();
+}
+
 std::string find_program(const std::string& name) {
   if (name.empty()) return {};
   auto ok = [](const std::string& p) {

@@ -29,6 +29,9 @@ struct ProcessError : std::runtime_error {
 // "" when it cannot be found / is not executable.
 std::string find_program(const std::string& name_or_path);
 
+// The running executable's absolute path (/proc/self/exe); "" when it cannot be read.
+std::string self_exe();
+
 // POSIX shell quoting ('...' with ' written as '\''), for commands shown to people (and
 // tests that build a shell command line). The launcher itself never uses a shell.
 std::string shell_quote(const std::string& s);
