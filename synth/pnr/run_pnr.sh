@@ -36,11 +36,11 @@
 #   --graywolf-fast N  TimberWolfSC "fast" parameter (layout/TOP.par: TWSC*fast : N): the
 #                      annealer tries N times fewer moves per temperature (default 0 = qflow's
 #                      setting). 46,760 cells of the noise unit take ~4 h at the default here.
-#   --graywolf-no-global-route
-#                      TWSC*do.global.route : off — skip TimberWolfSC's own global router
-#                      (row spacing and track estimate; feedthroughs are ignored by qflow's
-#                      osu018 setting anyway) and leave all routing to qrouter. For the noise
-#                      unit it ran > 100 min after a 25 min placement without finishing.
+#   (--graywolf-no-global-route, TWSC*do.global.route : off, was removed in session 8: with
+#   TimberWolfSC's global router off no ROOT.pin is written — the pin and net file qflow's
+#   place2def reads to write the DEF nets — so `place` fails on a fresh work directory with
+#   "GrayWolf failure: No file ROOT.pin"; the session-7 runs with it had read a .pin left in
+#   the work directory by an earlier run. The option now stops with that explanation.)
 #   --density D        qflow's initial_density (0 < D <= 1): decongest.tcl adds fill cells before
 #                      placement so that cells cover about D of the core (default: unset, qflow
 #                      packs the rows). Without GrayWolf's global route (which spaces the rows
@@ -72,12 +72,12 @@ while [ $# -gt 0 ]; do
     --redo) [ $# -ge 2 ] || die "--redo needs a value"; redo=$2; shift 2 ;;
     --until) [ $# -ge 2 ] || die "--until needs a value"; until=$2; shift 2 ;;
     --graywolf-fast) [ $# -ge 2 ] || die "--graywolf-fast needs a value"; gw_fast=$2; shift 2 ;;
-    --graywolf-no-global-route) gw_groute=off; shift ;;
+    --graywolf-no-global-route) die "--graywolf-no-global-route was removed: without TimberWolfSC's global route no .pin file is written and qflow's place2def cannot write the DEF nets (see --help)" ;;
     --density) [ $# -ge 2 ] || die "--density needs a value"; density=$2; shift 2 ;;
     --fresh) fresh=1; shift ;;
     --no-checks) checks=0; shift ;;
     -h|--help) usage; exit 0 ;;
-    --*) die "unknown option $1 (accepted: --clock-ns --work --out --rayunits --step-timeout --nice --redo --until --graywolf-fast --graywolf-no-global-route --density --fresh --no-checks --help)" ;;
+    --*) die "unknown option $1 (accepted: --clock-ns --work --out --rayunits --step-timeout --nice --redo --until --graywolf-fast --density --fresh --no-checks --help)" ;;
     *) break ;;
   esac
 done
@@ -336,7 +336,7 @@ cat > "$work/meta.json" <<EOF
   "graywolf_global_route": "$gw_groute",
   "initial_density": "${density:-unset}",
   "clock_target_mhz": $(awk "BEGIN{printf \"%.1f\", 1000/$clock_ns}"),
-  "command": "synth/pnr/run_pnr.sh --clock-ns $clock_ns$( [ "$gw_fast" = 0 ] || echo " --graywolf-fast $gw_fast")$( [ "$gw_groute" = on ] || echo " --graywolf-no-global-route")$( [ -z "$density" ] || echo " --density $density") $config",
+  "command": "synth/pnr/run_pnr.sh --clock-ns $clock_ns$( [ "$gw_fast" = 0 ] || echo " --graywolf-fast $gw_fast")$( [ -z "$density" ] || echo " --density $density") $config",
   "tools": {"qflow": "$(ver qflow)", "yosys": "$(ver yosys)", "graywolf": "$(ver graywolf)",
             "qrouter": "$(ver qrouter)", "magic": "$(ver magic)", "netgen-lvs": "$(ver netgen-lvs)",
             "opensta": "$(ver opensta)", "vesta": "qflow $(ver qflow)"},
