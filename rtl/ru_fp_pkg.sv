@@ -192,6 +192,32 @@ package ru_fp_pkg;
     sqrt_seg_w = v;
   endfunction
 
+  // ru_fp_fma: unpack + exponents | align c | CSA level 1 .. L | product adder | add/subtract |
+  // normalize | round A | round B (L = csa_levels(FracW+1); window of 3(FracW+1)+5 bits + carry)
+  function automatic int unsigned fma_nseg(input int unsigned frac_w);
+    fma_nseg = csa_levels(frac_w + 1) + 7;
+  endfunction
+  function automatic logic [ru_pipe_pkg::WW-1:0] fma_seg_w(input int unsigned exp_w,
+                                                              input int unsigned frac_w,
+                                                              input int unsigned sub);
+    logic [ru_pipe_pkg::WW-1:0] v;
+    int unsigned l, n, ww;
+    n = frac_w + 1;
+    l = csa_levels(n);
+    ww = 3 * n + 5;
+    v = '0;
+    // ec - ea - eb (+ constant): a three-input add, then the shift-amount clamp
+    v = ru_pipe_pkg::put_w(v, 0, d_add(exp_iw(exp_w, frac_w)) + 4);
+    v = ru_pipe_pkg::put_w(v, 1, d_shift(ww) + clog2p(ww) + 1);
+    for (int unsigned k = 1; k <= l; k++) v = ru_pipe_pkg::put_w(v, k + 1, (k == 1) ? 3 : 2);
+    v = ru_pipe_pkg::put_w(v, l + 2, d_add(2 * n));
+    v = ru_pipe_pkg::put_w(v, l + 3, d_add(ww + 1) + 2);
+    v = ru_pipe_pkg::put_w(v, l + 4, d_lzc(ww + 1) + d_shift(ww + 1));
+    v = ru_pipe_pkg::put_w(v, l + 5, d_round_a(exp_w, frac_w, sub));
+    v = ru_pipe_pkg::put_w(v, l + 6, d_round_b(exp_w, frac_w) + 2);
+    fma_seg_w = v;
+  endfunction
+
   // ru_fp_cmp: unpack/flush/classify | magnitude compare | operation select
   function automatic int unsigned cmp_nseg();
     cmp_nseg = 3;

@@ -135,8 +135,10 @@ TEST(Registry, RtlReadmeTableAgrees) {
   const auto fmts = row("format");
   const auto maxs = row("max Stages mul / div / dot3");
   const auto sqrts = row("max Stages sqrt");
+  const auto fmas = row("max Stages fma");
   ASSERT_EQ(fmts.size(), maxs.size());
   ASSERT_EQ(fmts.size(), sqrts.size());
+  ASSERT_EQ(fmts.size(), fmas.size());
   ASSERT_GE(fmts.size(), 3u);
   for (size_t i = 0; i < fmts.size(); ++i) {
     SCOPED_TRACE(fmts[i]);
@@ -147,6 +149,7 @@ TEST(Registry, RtlReadmeTableAgrees) {
     EXPECT_EQ(find_unit("fp_div").max_stages(c), div);
     EXPECT_EQ(find_unit("fp_dot3").max_stages(c), dot3);
     EXPECT_EQ(find_unit("fp_sqrt").max_stages(c), std::stoi(sqrts[i])) << sqrts[i];
+    EXPECT_EQ(find_unit("fp_fma").max_stages(c), std::stoi(fmas[i])) << fmas[i];
   }
   // The units table: `| `ru_fp_add`  | ... | 5 |`.
   for (const char* name : {"fp_add", "fp_cmp"}) {
@@ -203,7 +206,7 @@ TEST(Registry, ReadmeOnePastTheMaximumAgrees) {
     text = m[1].str();
   }
   const std::map<std::string, std::string> unit_of = {
-      {"add", "fp_add"}, {"mul", "fp_mul"},   {"div", "fp_div"},   {"sqrt", "fp_sqrt"}, {"cmp", "fp_cmp"},
+      {"add", "fp_add"}, {"mul", "fp_mul"},   {"div", "fp_div"},   {"sqrt", "fp_sqrt"}, {"fma", "fp_fma"}, {"cmp", "fp_cmp"},
       {"dot3", "fp_dot3"}, {"ray_box", "ray_box"}, {"ray_tri_robust", "ray_tri_robust"},
       {"ray_tri_mt", "ray_tri_mt"}, {"noise", "noise"}};
   const std::regex item("([a-z_0-9]+)\\s+([0-9]+)");

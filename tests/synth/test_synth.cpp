@@ -133,7 +133,7 @@ TEST(SynthRegistry, PortWidthsFollowTheFormat) {
         for (const auto& [name, bits] : want) EXPECT_EQ(width[name], bits) << name;
         continue;
       }
-      const int op_w = u.name == "fp_add" ? 1 : u.name == "fp_cmp" ? 3 : 0;
+      const int op_w = u.name == "fp_add" ? 1 : u.name == "fp_fma" ? 2 : u.name == "fp_cmp" ? 3 : 0;
       EXPECT_EQ(width.count("op_i") ? width["op_i"] : 0, op_w);
       const int k = u.name == "fp_dot3" ? 3 : 1;
       EXPECT_EQ(width["a_i"], k * w);
@@ -141,6 +141,10 @@ TEST(SynthRegistry, PortWidthsFollowTheFormat) {
         EXPECT_EQ(width.count("b_i"), 0u);
       else
         EXPECT_EQ(width["b_i"], k * w);
+      if (u.name == "fp_fma")  // three operands
+        EXPECT_EQ(width["c_i"], w);
+      else
+        EXPECT_EQ(width.count("c_i"), 0u);
       EXPECT_EQ(width["y_o"], w);
       EXPECT_EQ(width["flags_o"], 5);
     }

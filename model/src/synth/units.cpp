@@ -75,7 +75,7 @@ UnitSpec fp_unit(const char* name, const char* summary, std::vector<PortSpec> op
 
 // Maximum useful Stages: the number of internal cut positions of the unit's register chain
 // (rtl/README.md, "Pipelining"), with L = csa_levels(M+1). FP units: add 6 segments, mul L+5,
-// div M+6, sqrt M+4, cmp 3, dot3 = mul + 2 add. The ray units place their registers on the chain of their
+// div M+6, sqrt M+4, fma L+7, cmp 3, dot3 = mul + 2 add. The ray units place their registers on the chain of their
 // levels' FP segments (one mechanism, rtl/README.md), so their maximum is the sum of the levels'
 // segment counts minus one: ray_box = add mul cmp cmp cmp, ray_tri_robust = add mul add mul add
 // add div cmp (4 add, 2 mul), ray_tri_mt = add mul add mul add add div mul add cmp (5 add, 3 mul).
@@ -92,6 +92,11 @@ std::vector<UnitSpec> make_units() {
                       {in("a_i", "W", "dividend"), in("b_i", "W", "divisor")}, "M+5"));
   u.push_back(fp_unit("fp_sqrt", "floating-point square root (correctly rounded, pipelined digit recurrence)",
                       {in("a_i", "W", "radicand")}, "M+3"));
+  u.push_back(fp_unit("fp_fma",
+                      "fused multiply-add, one rounding (op_i 0 a*b+c, 1 a*b-c, 2 -(a*b)+c, 3 -(a*b)-c)",
+                      {in("a_i", "W", "multiplicand a"), in("b_i", "W", "multiplier b"), in("c_i", "W", "addend c"),
+                       in("op_i", "2", "bit 0 negates c, bit 1 negates a*b")},
+                      "L+6"));
   u.push_back(fp_unit("fp_cmp", "floating-point compare/min/max (op_i 0 lt, 1 le, 2 eq, 3 min, 4 max)",
                       {in("a_i", "W", "operand a"), in("b_i", "W", "operand b"),
                        in("op_i", "3", "0 lt, 1 le, 2 eq, 3 min, 4 max")},
