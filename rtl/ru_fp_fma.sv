@@ -136,10 +136,13 @@ module ru_fp_fma #(
   logic signed [ExpIW-1:0] s0_exp;
   logic                    s0_clamp;
   logic [ShW-1:0]          s0_sh;
+  // (signed constants: a comparison with an unsigned operand would be unsigned)
+  localparam logic signed [DW-1:0] DTop = DW'(2 * N + 2);  // c at the top of the window
+  localparam logic signed [DW-1:0] ShMax = DW'(WW);         // c entirely below the window
   assign s0_d     = DW'(ec) - DW'(ea) - DW'(eb) + DW'(Bias + FracW);
-  assign s0_clamp = prod_zero | (~zc & (s0_d > DW'(2 * N + 2)));
-  assign s0_shf   = DW'(2 * N + 2) - s0_d;
-  assign s0_sh    = s0_clamp ? '0 : (s0_shf > DW'(WW)) ? ShW'(WW) : s0_shf[ShW-1:0];
+  assign s0_clamp = prod_zero | (~zc & (s0_d > DTop));
+  assign s0_shf   = DTop - s0_d;
+  assign s0_sh    = s0_clamp ? '0 : (s0_shf > ShMax) ? ShW'(WW) : s0_shf[ShW-1:0];
   // biased exponent of the window sum if its MSB (bit SW-1) is set
   assign s0_exp   = s0_clamp ? ExpIW'(ec) + ExpIW'(1)
                              : ExpIW'(ea) + ExpIW'(eb) - ExpIW'(Bias) + ExpIW'(FracW + 5);

@@ -18,6 +18,8 @@ const FpUnitSpec* fp_unit_spec(const std::string& unit) {
       {"fp_mul", {{"mul", Op::Mul}}, 0, false},
       {"fp_div", {{"div", Op::Div}}, 0, false},
       {"fp_sqrt", {{"sqrt", Op::Sqrt}}, 0, false, true},
+      {"fp_fma", {{"fma", Op::Fma, 0}, {"fms", Op::Fma, 1}, {"fnms", Op::Fma, 2}, {"fnma", Op::Fma, 3}}, 2, false,
+       false, true},
       {"fp_cmp", {{"lt", Op::Lt}, {"le", Op::Le}, {"eq", Op::Eq}, {"min", Op::Min}, {"max", Op::Max}}, 3, false},
       {"fp_dot3", {{"dot3", Op::Fma}}, 0, true},
   };
@@ -52,6 +54,7 @@ FpAdapter::FpAdapter(const FpUnitSpec& spec, const Format& f, int stages)
   } else {
     ins_.push_back({"a_i", W_, FieldKind::Float, {}});
     if (!spec.unary) ins_.push_back({"b_i", W_, FieldKind::Float, {}});
+    if (spec.ternary) ins_.push_back({"c_i", W_, FieldKind::Float, {}});
   }
   outs_.push_back({"y_o", W_, FieldKind::Float, {}});
   outs_.push_back({"flags_o", 5, FieldKind::Flags, {}});
@@ -68,10 +71,12 @@ void FpAdapter::bind(const PortMap& pm) {
   }
   a_ = pm.get("a_i");
   if (!spec_.unary) b_ = pm.get("b_i");
+  if (spec_.ternary) c_ = pm.get("c_i");
   y_ = pm.get("y_o");
   flags_ = pm.get("flags_o");
   const int wa = spec_.dot3 ? 3 * W_ : W_;
-  if (a_.bits() != wa || (!spec_.unary && b_.bits() != wa) || y_.bits() != W_ || flags_.bits() != 5)
+  if (a_.bits() != wa || (!spec_.unary && b_.bits() != wa) || (spec_.ternary && c_.bits() != W_) ||
+      y_.bits() != W_ || flags_.bits() != 5)
     throw std::runtime_error(describe() + ": port widths do not match the format");
 }
 
@@ -95,6 +100,7 @@ void FpAdapter::drive(const Record& in) {
   } else {
     a_.set(in.v[1]);
     if (!spec_.unary) b_.set(in.v[2]);
+    if (spec_.ternary) c_.set(in.v[3]);
   }
 }
 
@@ -107,6 +113,11 @@ void FpAdapter::model(const Record& in, Record& out) {
   ru::num::Result r;
   if (spec_.dot3) {
     r = ru::num::dot3(f_, &in.v[1], &in.v[4]);
+  } else if (spec_.ternary) {  // fp_fma: op_i flips the sign of a (the product) and/or of c
+    const FpOpDesc& o = spec_.ops[in.v[0]];
+    const uint64_t a = (o.neg & 2) ? ru::num::neg(f_, in.v[1]) : in.v[1];
+    const uint64_t c = (o.neg & 1) ? ru::num::neg(f_, in.v[3]) : in.v[3];
+    r = ru::num::apply(f_, o.op, a, in.v[2], c);
   } else {
     r = ru::num::apply(f_, spec_.ops[in.v[0]].op, in.v[1], spec_.unary ? 0 : in.v[2]);
   }
@@ -218,6 +229,29 @@ class SpecialBinary final : public VectorSource {
   size_t i_ = 0, j_ = 0, op_ = 0;
 };
 
+class SpecialTernary final : public VectorSource {
+ public:
+  SpecialTernary(const FpUnitSpec& s, const Format& f) : nops_(s.ops.size()), sv_(ru::num::special_values(f)) {}
+  bool next(Record& r) override {
+    if (i_ >= sv_.size()) return false;
+    r.v[0] = n_++ % nops_;
+    r.v[1] = sv_[i_];
+    r.v[2] = sv_[j_];
+    r.v[3] = sv_[k_];
+    if (++k_ == sv_.size()) {
+      k_ = 0;
+      if (++j_ == sv_.size()) j_ = 0, ++i_;
+    }
+    return true;
+  }
+  uint64_t total() const override { return sv_.size() * sv_.size() * sv_.size(); }
+
+ private:
+  size_t nops_;
+  std::vector<uint64_t> sv_;
+  size_t i_ = 0, j_ = 0, k_ = 0, n_ = 0;
+};
+
 class SpecialDot3 final : public VectorSource {
  public:
   SpecialDot3(const Format& f, uint64_t seed) : sv_(ru::num::special_values(f)), gen_(f, seed), rng_(seed ^ 0x5eed) {}
@@ -259,6 +293,9 @@ class RandomFp final : public VectorSource {
         r.v[2] = r.v[1];
         r.v[5] = ru::num::neg(f_, r.v[4]);
       }
+    } else if (s_.ternary) {  // fma: products near ties, c ~ -a*b, exponent differences, specials
+      r.v[0] = rng_.below(s_.ops.size());
+      gen_.triple(r.v[1], r.v[2], r.v[3]);
     } else if (s_.unary) {  // sqrt: exact squares and squares of rounding midpoints, or anything
       r.v[0] = rng_.below(s_.ops.size());
       r.v[1] = rng_.below(2) ? gen_.sqrt_case() : gen_.next();
@@ -282,30 +319,35 @@ class RandomFp final : public VectorSource {
 class ExhaustiveBinary final : public VectorSource {
  public:
   ExhaustiveBinary(const FpUnitSpec& s, const Format& f)
-      : nops_(s.ops.size()), n_(1ull << f.width()), unary_(s.unary) {}
+      : nops_(s.ops.size()), n_(1ull << f.width()), unary_(s.unary), ternary_(s.ternary) {}
   bool next(Record& r) override {
     if (a_ >= n_) return false;
     r.v[0] = op_;
     r.v[1] = a_;
     r.v[2] = b_;
+    r.v[3] = c_;
     if (++op_ == nops_) {
       op_ = 0;
-      if (unary_ || ++b_ == n_) b_ = 0, ++a_;
+      if (!ternary_ || ++c_ == n_) {
+        c_ = 0;
+        if (unary_ || ++b_ == n_) b_ = 0, ++a_;
+      }
     }
     return true;
   }
-  uint64_t total() const override { return nops_ * n_ * (unary_ ? 1 : n_); }
+  uint64_t total() const override { return nops_ * n_ * (unary_ ? 1 : n_) * (ternary_ ? n_ : 1); }
 
  private:
   uint64_t nops_, n_;
-  bool unary_;
-  uint64_t a_ = 0, b_ = 0, op_ = 0;
+  bool unary_, ternary_;
+  uint64_t a_ = 0, b_ = 0, c_ = 0, op_ = 0;
 };
 
 }  // namespace
 
 std::unique_ptr<VectorSource> fp_special_source(const FpUnitSpec& s, const Format& f, uint64_t seed) {
   if (s.dot3) return std::make_unique<SpecialDot3>(f, seed);
+  if (s.ternary) return std::make_unique<SpecialTernary>(s, f);
   return std::make_unique<SpecialBinary>(s, f);
 }
 
@@ -314,12 +356,12 @@ std::unique_ptr<VectorSource> fp_random_source(const FpUnitSpec& s, const Format
 }
 
 uint64_t fp_exhaustive_count(const FpUnitSpec& s, const Format& f) {
-  return s.ops.size() << ((s.unary ? 1 : 2) * f.width());
+  return s.ops.size() << ((s.unary ? 1 : s.ternary ? 3 : 2) * f.width());
 }
 
 std::unique_ptr<VectorSource> fp_exhaustive_source(const FpUnitSpec& s, const Format& f) {
   if (s.dot3) throw std::invalid_argument("fp_dot3 has six operands: no exhaustive source");
-  const int max_w = s.unary ? 24 : 12;
+  const int max_w = s.unary ? 24 : s.ternary ? 8 : 12;
   if (f.width() > max_w)
     throw std::invalid_argument(f.name() + " is too wide for an exhaustive run (at most " + std::to_string(max_w) +
                                 " bits)");

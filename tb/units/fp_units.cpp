@@ -1,10 +1,11 @@
 // rayunits tb: the test plan of the floating-point units (fp_add, fp_mul, fp_div, fp_sqrt,
-// fp_cmp, fp_dot3). For each configuration <unit>_<cfg> (suite; Long_<unit>_<cfg> for long configs):
+// fp_fma, fp_cmp, fp_dot3). For each configuration <unit>_<cfg> (suite; Long_<unit>_<cfg> for long configs):
 //   special          every op x every pair of special values (TestFloat-style patterns; fp_sqrt:
-//                    every special value)
+//                    every special value; fp_fma: every triple, the op cycling)
 //   random           weighted random operands (default 20,000; long configs 10^6; --vectors=N)
 //   reset            random operands with a reset every ~40 cycles (stale results, replay)
-//   exhaustive       every op x every operand pair, fp_sqrt every operand (tagged "exhaustive")
+//   exhaustive       every op x every operand pair, fp_sqrt every operand, fp_fma every op x
+//                    every triple (tagged "exhaustive")
 //   file_<name>      tb/vectors/<unit>*.txt whose format matches, and every --vector-file
 //   inject_*         planted errors the harness must report (configurations tagged "selftest")
 // and, for fast configurations, Long_<unit>_<cfg>.random with 10^6 vectors (label long).
@@ -177,6 +178,7 @@ PlanRegistrar r_add("fp_add", fp_plan);
 PlanRegistrar r_mul("fp_mul", fp_plan);
 PlanRegistrar r_div("fp_div", fp_plan);
 PlanRegistrar r_sqrt("fp_sqrt", fp_plan);
+PlanRegistrar r_fma("fp_fma", fp_plan);
 PlanRegistrar r_cmp("fp_cmp", fp_plan);
 PlanRegistrar r_dot3("fp_dot3", fp_plan);
 

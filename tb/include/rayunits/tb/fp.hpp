@@ -1,8 +1,8 @@
 // rayunits tb: the adapter layer shared by the floating-point units (ru_fp_add, ru_fp_mul,
-// ru_fp_div, ru_fp_sqrt, ru_fp_cmp, ru_fp_dot3) and their vector sources.
+// ru_fp_div, ru_fp_sqrt, ru_fp_fma, ru_fp_cmp, ru_fp_dot3) and their vector sources.
 //
 // Input record: field 0 is the operation (the op_i code; units without op_i have one op),
-// then the operands: a, b for the binary units, a for the unary fp_sqrt, a0 a1 a2 b0 b1 b2 for
+// then the operands: a, b for the binary units, a for the unary fp_sqrt, a b c for fp_fma, a0 a1 a2 b0 b1 b2 for
 // fp_dot3 (driven packed as a_i = {a2, a1, a0}, b_i = {b2, b1, b0}). Output record: y_o, flags_o.
 // Golden model: ru::num::apply / ru::num::dot3 with the configuration's Format.
 #pragma once
@@ -21,6 +21,7 @@ namespace ru::tb {
 struct FpOpDesc {
   const char* name;   // file/CLI name ("add", "lt", "dot3")
   ru::num::Op op;     // model operation (ignored for dot3)
+  uint8_t neg = 0;    // fp_fma: bit 0 negates c, bit 1 negates a (so a*b) before ru::num::fma
 };
 
 struct FpUnitSpec {
@@ -29,7 +30,8 @@ struct FpUnitSpec {
   int op_bits = 0;             // width of op_i; 0: the unit has no op_i port
   bool dot3 = false;
   bool unary = false;          // one operand a_i, no b_i port (fp_sqrt)
-  int operands() const { return dot3 ? 6 : unary ? 1 : 2; }
+  bool ternary = false;        // three operands a_i, b_i, c_i (fp_fma)
+  int operands() const { return dot3 ? 6 : unary ? 1 : ternary ? 3 : 2; }
 };
 
 // nullptr if `unit` is not a floating-point unit.
@@ -67,21 +69,24 @@ class FpAdapter final : public UnitAdapter {
   ru::num::Format f_;
   int stages_;
   std::vector<FieldInfo> ins_, outs_;
-  Port op_, a_, b_, y_, flags_;
+  Port op_, a_, b_, c_, y_, flags_;
   int W_;
 };
 
 // Vector sources. All are deterministic functions of their arguments.
 // Every op x every pair of ru::num::special_values(f) (unary units: every special value;
+// fp_fma: every triple of special values, the op cycling over the triples;
 // fp_dot3: each pair placed in one product, the other operands drawn from the specials and
 // OperandGen).
 std::unique_ptr<VectorSource> fp_special_source(const FpUnitSpec& s, const ru::num::Format& f, uint64_t seed);
 // n vectors: uniformly random op, operands from ru::num::OperandGen (weighted random and the
 // hard cases of each operation; fp_sqrt: half of them OperandGen::sqrt_case, exact squares and
-// squares of rounding midpoints; fp_dot3: two triples, 1 in 4 with a cancelling product pair).
+// squares of rounding midpoints; fp_fma: OperandGen::triple, products near ties, cancellation
+// c ~ -a*b, exponent differences; fp_dot3: two triples, 1 in 4 with a cancelling product pair).
 std::unique_ptr<VectorSource> fp_random_source(const FpUnitSpec& s, const ru::num::Format& f, uint64_t seed, uint64_t n);
 // Every op x every pair of bit patterns (binary units; the format must be at most 12 bits wide),
-// every bit pattern for unary units (at most 24 bits wide).
+// every bit pattern for unary units (at most 24 bits wide), every op x every triple for fp_fma
+// (at most 8 bits wide).
 std::unique_ptr<VectorSource> fp_exhaustive_source(const FpUnitSpec& s, const ru::num::Format& f);
 uint64_t fp_exhaustive_count(const FpUnitSpec& s, const ru::num::Format& f);
 
