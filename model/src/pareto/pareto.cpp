@@ -80,8 +80,11 @@ std::string text(const Row& r, const std::string& f) {
   if (it->is_string()) return it->get<std::string>();
   if (it->is_number_integer() || it->is_boolean()) return it->dump();
   if (it->is_number()) {
+    const double d = it->get<double>();
+    if (std::isfinite(d) && d == std::floor(d) && std::fabs(d) < 1e15) return std::to_string(static_cast<long long>(d));
     std::ostringstream s;
-    s << it->get<double>();
+    s.precision(10);
+    s << d;
     return s.str();
   }
   return it->dump();
