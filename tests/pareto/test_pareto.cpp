@@ -337,13 +337,14 @@ TEST(Pareto, CommandOnTheCheckedInChipTableAndBadInput) {
 
 namespace {
 
-// The checked-in fronts (docs/pareto) are what their recorded commands make today: rerun each
-// command of docs/pareto/*/pareto.md (its second line) into a temporary directory and compare
+// The checked-in fronts (docs/pareto/*, sweeps/results/default/pareto) are what their recorded
+// commands make today: rerun each command of pareto.md (its third line) into a temporary directory and compare
 // pareto.csv byte for byte (a stale table, or a change of the front logic, fails here).
 TEST(Pareto, CheckedInFrontsAreReproducedByTheirCommands) {
   int checked = 0;
-  for (const char* name : {"fp_units", "chip", "profile_default"}) {
-    const fs::path dir = fs::path(RU_SOURCE_DIR) / "docs" / "pareto" / name;
+  for (const char* name : {"docs/pareto/fp_units", "docs/pareto/chip", "docs/pareto/profile_default",
+                           "sweeps/results/default/pareto"}) {
+    const fs::path dir = fs::path(RU_SOURCE_DIR) / name;
     const std::string md = ru::synth::read_file((dir / "pareto.md").string());
     const auto a = md.find("`rayunits pareto "), b = md.find('`', a + 1);
     ASSERT_NE(a, std::string::npos) << name;
@@ -376,10 +377,10 @@ TEST(Pareto, CheckedInFrontsAreReproducedByTheirCommands) {
     ASSERT_EQ(r.code, 0) << name << ": " << r.err;
     EXPECT_EQ(ru::synth::read_file((t.p / "o" / "pareto.csv").string()),
               ru::synth::read_file((dir / "pareto.csv").string()))
-        << name << ": docs/pareto/" << name << "/pareto.csv is not what its command makes today";
+        << name << "/pareto.csv is not what its command makes today";
     ++checked;
   }
-  EXPECT_EQ(checked, 3);
+  EXPECT_EQ(checked, 4);
 }
 
 }  // namespace
