@@ -12,22 +12,15 @@
 #include <sstream>
 
 #include "../common/run_rayunits.hpp"
+#include "../common/temp_dir.hpp"
 
 namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-struct Dir {
-  fs::path p;
-  Dir() {
-    std::string t = (fs::temp_directory_path() / "ru_gen_profile_XXXXXX").string();
-    p = mkdtemp(t.data());
-  }
-  ~Dir() {
-    std::error_code ec;
-    fs::remove_all(p, ec);
-  }
+struct Dir : ru::test::TempDir {
+  Dir() : TempDir("ru_gen_profile") {}
 };
 
 json read_json(const fs::path& p) {

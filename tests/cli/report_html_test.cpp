@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "../common/run_rayunits.hpp"
+#include "../common/temp_dir.hpp"
 #include "rayunits/report/report.hpp"
 #include "rayunits/util/process.hpp"
 
@@ -27,16 +28,8 @@ std::string slurp(const fs::path& p) {
   return s.str();
 }
 
-struct Dir {
-  fs::path p;
-  Dir() {
-    std::string t = (fs::temp_directory_path() / "ru_report_html_XXXXXX").string();
-    p = mkdtemp(t.data());
-  }
-  ~Dir() {
-    std::error_code ec;
-    fs::remove_all(p, ec);
-  }
+struct Dir : ru::test::TempDir {
+  Dir() : TempDir("ru_report_html") {}
 };
 
 int count(const std::string& s, const std::string& what) {

@@ -10,6 +10,7 @@
 #include <random>
 
 #include "../common/run_rayunits.hpp"
+#include "../common/temp_dir.hpp"
 #include "rayunits/pareto/pareto.hpp"
 #include "rayunits/synth/process.hpp"
 #include "rayunits/util/csv.hpp"
@@ -219,16 +220,8 @@ TEST(Pareto, ProfilePlanPicksTheCheapestToleratedFormatWithEveryUnit) {
   EXPECT_THROW(plan_from_profile(json{{"scene", "s"}}, rows, parse_axis("area"), {}), ParetoError);
 }
 
-struct Tmp {
-  fs::path p;
-  Tmp() {
-    char t[] = "/tmp/ru-pareto-XXXXXX";
-    p = mkdtemp(t);
-  }
-  ~Tmp() {
-    std::error_code ec;
-    fs::remove_all(p, ec);
-  }
+struct Tmp : ru::test::TempDir {
+  Tmp() : TempDir("ru-pareto") {}
 };
 
 void spit(const fs::path& p, const std::string& s) { ru::synth::write_file_atomic(p.string(), s); }
