@@ -331,7 +331,7 @@ TEST(CellFlowCli, ErrorLines) {
                "--stage-periods needs a cell-library flow (--flow osu018, osu035 or osu050)");
   expect_error("synth fp_dot3 --format e5m10 --stages 3 --flow osu018 --placement delay",
                "--placement delay: fp_dot3 places its registers through its sub-units' chain (units with their own "
-               "placement: fp_add, fp_mul, fp_div, fp_sqrt, fp_cmp)");
+               "placement: fp_add, fp_mul, fp_div, fp_sqrt, fp_fma, fp_cmp)");
   TempDir empty("ru-test-nolib-");
   expect_error("synth fp_add --format e5m10 --stages 1 --flow osu018",
                "cell library osu018 not found: no " + empty.path() +
