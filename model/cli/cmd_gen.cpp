@@ -148,7 +148,10 @@ int run_gen_from_profile(int argc, char** argv) {
                    command_line("rayunits gen", argc, argv) + "`\n\nFormat " + format + " (profile " +
                    profile_path + "); chip configuration " + chip["config"].get<std::string>() +
                    "; counts = per-TM count x " + std::to_string(cfg.tms) + " TMs.\n\n"
-                   "| unit | top | count | Stages (latency) | chip latency | area per unit | Fmax MHz | area x count |\n"
+                   "| unit | top | count | Stages (latency) | chip latency | area per unit | " +
+                   std::string(no_synth ? "Fmax MHz" : flow.flow == "generic" ? "Fmax MHz (fo4-v1 estimate)"
+                                                                               : "Fmax MHz (OpenSTA)") +
+                   " | area x count |\n"
                    "|---|---|---:|---:|---:|---:|---:|---:|\n";
   for (const auto& name : units) {
     const synth::UnitSpec& u = synth::find_unit(name);
