@@ -54,6 +54,12 @@ int run_report(int argc, char** argv) {
   app.add_flag("--quiet", o.quiet, "no progress on stderr");
   bool no_plots = false;
   app.add_flag("--no-plots", no_plots, "skip the PNG plots (Markdown and CSV only; no python needed)");
+  app.add_flag("--live-synth", o.live_synth,
+               "synthesize every cell-flow row of the synthesis and noise sections now (default: read the checked-in "
+               "rows of sweeps/results/default and synth/results/cell whose rtl_hash matches the current RTL)");
+  app.add_option("--checked-in", o.checked_in,
+                 "checked-in results to read instead (a results.jsonl / *.jsonl file or a directory), repeatable; "
+                 "replaces the defaults");
   if (!parse_args(app, argc, argv)) return 0;
 
   if (list) {

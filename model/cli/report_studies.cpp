@@ -11,7 +11,9 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <algorithm>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <sstream>
 #include <string>
@@ -21,6 +23,7 @@
 #include "command.hpp"
 #include "rayunits/noise/study.hpp"
 #include "rayunits/report/report.hpp"
+#include "rayunits/synth/checked_in.hpp"
 #include "rayunits/synth/flow.hpp"
 #include "rayunits/synth/process.hpp"
 #include "rayunits/synth/sweep.hpp"
@@ -192,63 +195,236 @@ std::vector<std::string> synth_cells(const synth::SweepRow& r) {
           luts, r.ice40_fits ? fmt("%.1f", r.ice40_fmax_mhz) : "-"};
 }
 
-// The same points through the cell-library flow (rayunits synth ... --flow osu018, without a
-// target clock): area in um2 and the OpenSTA clock; rows appended to <sub>.jsonl.
+// ---- the cell-library flow: checked-in rows or live ------------------------------------------
+
+// The two target clocks of the cell rows, those of the default grid (sweeps/default.toml) and of
+// synth/cell/run.py's `ends` runs: 200 ps (every target below a unit's minimum delay gives the
+// same netlist: the fastest mapping ABC finds) and 1 us (area-oriented mapping: the smallest).
+constexpr double kFastPs = 200, kSmallPs = 1000000;
+const char* const kClockArg = "200ps,1000000ps";
+
+std::string source_dir() {
+#ifdef RU_SOURCE_DIR
+  return RU_SOURCE_DIR;
+#else
+  return ".";
+#endif
+}
+
+// A path as shown in the report: relative to the source tree when under it.
+std::string shown_path(const std::string& p) {
+  const std::string root = source_dir() + "/";
+  return p.rfind(root, 0) == 0 ? p.substr(root.size()) : p;
+}
+
+// The checked-in rows (--checked-in, else sweeps/results/default and synth/results/cell), read
+// once per report; a malformed file is the report's one-line error.
+const synth::CheckedInRows& checked_in(const Context& ctx) {
+  static std::mutex mu;
+  static std::unique_ptr<synth::CheckedInRows> rows;
+  std::lock_guard<std::mutex> l(mu);
+  if (!rows) {
+    std::vector<std::string> paths = ctx.opts.checked_in;
+    if (paths.empty()) paths = {source_dir() + "/sweeps/results/default", source_dir() + "/synth/results/cell"};
+    try {
+      rows = std::make_unique<synth::CheckedInRows>(synth::CheckedInRows::load(paths));
+    } catch (const std::exception& e) {
+      throw ReportError(std::string("checked-in results: ") + e.what() +
+                        " (fix or remove the file, or pass --live-synth to synthesize every row now)");
+    }
+  }
+  return *rows;
+}
+
+struct CellPoint {
+  std::string unit, format;  // format "" for units without one
+  int stages = 0;
+};
+
+// One point's two rows (fastest, smallest) and where they came from.
+struct CellEnds {
+  nlohmann::json fast, small;
+  bool read = false;        // both rows read from checked-in results
+  std::string source;       // table cell: "read: FILE:LINE" or "measured now (...)"
+  std::string detail;       // the line of the sources list
+};
+
 struct CellRows {
-  std::string cmd;  // the command line pattern
-  std::map<std::string, nlohmann::json> rows;  // "unit format stages" -> row
-  const nlohmann::json* find(const std::string& unit, const std::string& format, int stages) const {
+  std::string cmd;  // the command line pattern of a live point
+  std::map<std::string, CellEnds> rows;  // "unit format stages"
+  int n_read = 0, n_live = 0;
+  const CellEnds* find(const std::string& unit, const std::string& format, int stages) const {
     auto it = rows.find(unit + " " + format + " " + std::to_string(stages));
     return it == rows.end() ? nullptr : &it->second;
   }
+  static std::string area(const nlohmann::json& j) { return fmt("%.0f", j["area_um2"].get<double>()); }
+  static std::string mhz(const nlohmann::json& j) { return fmt("%.1f", j["fmax_mhz"].get<double>()); }
+  // fastest: area, Fmax, cycle (FO4); smallest: area, Fmax; source
   std::vector<std::string> cells(const std::string& unit, const std::string& format, int stages) const {
-    const nlohmann::json* j = find(unit, format, stages);
-    if (!j) return {"-", "-", "-"};
-    return {fmt("%.0f", (*j)["area_um2"].get<double>()), fmt("%.1f", (*j)["fmax_mhz"].get<double>()),
-            fmt("%.1f", (*j)["period_fo4"].get<double>())};
+    const CellEnds* e = find(unit, format, stages);
+    if (!e) return {"-", "-", "-", "-", "-", "-"};
+    return {area(e->fast), mhz(e->fast), fmt("%.1f", e->fast["period_fo4"].get<double>()), area(e->small),
+            mhz(e->small), e->source};
+  }
+  // The Markdown under a table: what was read (file, line, its command and commit) and what ran now.
+  std::string sources_md() const {
+    std::string md = "Cell-flow rows: " + std::to_string(n_read) + " point(s) read from checked-in results, " +
+                     std::to_string(n_live) +
+                     " measured now (`rayunits report --live-synth` measures all of them now). A row is read only "
+                     "when it is for the same unit configuration, flow, target clock, placement and resource "
+                     "sharing and its `rtl_hash` equals the hash of the current RTL sources; refresh the "
+                     "checked-in rows with `rayunits sweep sweeps/default.toml --out sweeps/results/default -j 1` "
+                     "(FP units) or `/usr/bin/python3 synth/cell/run.py` (synth/results/cell).\n\n";
+    for (const auto& [k, e] : rows) md += "- " + k + ": " + e.detail + "\n";
+    return md + "\n";
   }
 };
 
-CellRows run_cell_rows(Context& ctx, const std::string& sub, const std::vector<synth::SweepRow>& pts) {
+std::string key_of(const CellPoint& p) { return p.unit + " " + p.format + " " + std::to_string(p.stages); }
+
+// The points through the cell-library flow at both clocks (rayunits synth ... --flow osu018
+// --clock 200ps,1000000ps): read from the checked-in results when current, else synthesized now;
+// every row used is appended to <sub>.jsonl with its "report_source".
+CellRows run_cell_rows(Context& ctx, const std::string& sub, const std::vector<CellPoint>& pts) {
   CellRows c;
-  c.cmd = "rayunits synth <unit> --format <format> --stages <stages> --flow osu018 --json " + sub +
-          ".jsonl   # each row below";
-  ctx.progress(c.cmd);
-  std::vector<nlohmann::json> out(pts.size());
+  c.cmd = std::string("rayunits synth <unit> --format <format> --stages <stages> --flow osu018 --clock ") + kClockArg +
+          " --json " + sub + ".jsonl   # each row below measured now";
+  const synth::CheckedInRows* ci = ctx.opts.live_synth ? nullptr : &checked_in(ctx);
+  const std::string rtl_dir = synth::default_rtl_dir();
+  std::vector<CellEnds> out(pts.size());
+  std::vector<size_t> live;
+  for (size_t i = 0; i < pts.size(); ++i) {
+    const CellPoint& p = pts[i];
+    const synth::UnitSpec& u = synth::find_unit(p.unit);
+    synth::UnitConfig cfg;
+    if (u.uses_format) cfg.fmt = num::Format::parse(p.format);
+    cfg.stages = p.stages;
+    if (!ci) {
+      out[i].source = "measured now (--live-synth)";
+      live.push_back(i);
+      continue;
+    }
+    const std::string top = synth::wrapper_name(u, cfg);
+    const std::string hash = synth::sources_hash(synth::resolve_sources(u, rtl_dir));
+    const auto f = ci->find(top, "osu018", kFastPs, "depth", u.synth_share, hash);
+    const auto s = ci->find(top, "osu018", kSmallPs, "depth", u.synth_share, hash);
+    if (f.row && s.row) {
+      auto at = [](const synth::CheckedInRow& r) { return shown_path(r.file) + ":" + std::to_string(r.line); };
+      out[i].fast = f.row->row;
+      out[i].small = s.row->row;
+      out[i].read = true;
+      out[i].source = "read: " + at(*f.row) + (at(*s.row) == at(*f.row) ? "" : ", " + at(*s.row));
+      auto made = [&](const synth::CheckedInRow& r) {
+        return "`" + (r.command.empty() ? std::string("(no command recorded)") : r.command) + "` at " +
+               (r.commit.empty() ? std::string("(no commit recorded)") : r.commit);
+      };
+      out[i].detail = "read from " + at(*f.row) + " (200 ps, made by " + made(*f.row) + ") and " + at(*s.row) +
+                      " (1 us, made by " + made(*s.row) + "), rtl_hash " + hash + " = the current RTL";
+      continue;
+    }
+    const std::string why = !f.row ? f.why_not : s.why_not;
+    out[i].source = why.rfind("stale", 0) == 0 ? "measured now (checked-in row stale)" : "measured now (no checked-in row)";
+    out[i].detail = "measured now: " + why;
+    live.push_back(i);
+  }
+  if (!live.empty()) ctx.progress(c.cmd + " (" + std::to_string(live.size()) + " point(s))");
   synth::install_interrupt_handler();
   util::ParallelOptions po;
   po.stop = [] { return synth::interrupted(); };
   std::string err;
   std::mutex mu;
   util::parallel_for(
-      pts.size(), threads_of(ctx),
-      [&](size_t i) {
-        const synth::SweepRow& r = pts[i];
-        if (!r.error.empty()) return;
-        const synth::UnitSpec& u = synth::find_unit(r.unit);
+      live.size(), threads_of(ctx),
+      [&](size_t k) {
+        const size_t i = live[k];
+        const synth::UnitSpec& u = synth::find_unit(pts[i].unit);
         synth::UnitConfig cfg;
-        if (u.uses_format) cfg.fmt = num::Format::parse(r.format);
-        cfg.stages = r.stages;
+        if (u.uses_format) cfg.fmt = num::Format::parse(pts[i].format);
+        cfg.stages = pts[i].stages;
         synth::FlowOptions fo;
         fo.flow = "osu018";
+        fo.clocks_ps = {kFastPs, kSmallPs};
         try {
-          out[i] = synth::to_json(synth::run_synth(u, cfg, fo));
+          const auto rows = synth::to_json_rows(synth::run_synth(u, cfg, fo));
+          if (rows.size() != 2) throw std::runtime_error("expected 2 rows, got " + std::to_string(rows.size()));
+          out[i].fast = rows[0];
+          out[i].small = rows[1];
+          if (out[i].detail.empty())
+            out[i].detail = "measured now (--live-synth)";
+          out[i].detail += "; `rayunits synth " + synth::config_args(u, cfg) + " --flow osu018 --clock " + kClockArg + "`";
         } catch (const std::exception& e) {
           std::lock_guard<std::mutex> l(mu);
-          if (err.empty()) err = std::string("rayunits synth ") + synth::config_args(u, cfg) + " --flow osu018: " + e.what();
+          if (err.empty())
+            err = std::string("rayunits synth ") + synth::config_args(u, cfg) + " --flow osu018 --clock " + kClockArg +
+                  ": " + e.what();
         }
       },
       po);
   if (!err.empty()) throw ReportError(err);
+  if (synth::interrupted()) throw ReportError("interrupted");
   std::string jsonl;
   for (size_t i = 0; i < pts.size(); ++i) {
-    if (out[i].is_null()) continue;
-    jsonl += out[i].dump() + "\n";
-    c.rows[pts[i].unit + " " + pts[i].format + " " + std::to_string(pts[i].stages)] = out[i];
+    for (nlohmann::json* j : {&out[i].fast, &out[i].small}) {
+      nlohmann::json r = *j;
+      r["report_source"] = out[i].source;
+      jsonl += r.dump() + "\n";
+    }
+    (out[i].read ? c.n_read : c.n_live)++;
+    c.rows[key_of(pts[i])] = std::move(out[i]);
   }
   synth::write_file_atomic(ctx.path(sub + ".jsonl").string(), jsonl);
   return c;
 }
+
+// "0,max" -> Stages per (unit, format): numbers as given, "max" the unit's maximum useful Stages.
+std::vector<CellPoint> cell_points(const std::string& key, const std::vector<std::string>& units,
+                                   const std::vector<std::string>& formats, const std::string& stages) {
+  std::vector<CellPoint> pts;
+  for (const auto& un : units) {
+    const synth::UnitSpec* u = nullptr;
+    for (const auto& x : synth::units())
+      if (x.name == un) u = &x;
+    if (!u) throw ReportError("--param " + key + ": unknown unit '" + un + "'");
+    const std::vector<std::string> fl = u->uses_format ? formats : std::vector<std::string>{""};
+    for (const auto& f : fl) {
+      synth::UnitConfig cfg;
+      try {
+        if (u->uses_format) cfg.fmt = num::Format::parse(f);
+      } catch (const std::exception& e) {
+        throw ReportError("--param " + key + ": " + e.what());
+      }
+      std::vector<int> seen;
+      for (const auto& t : split_list(stages)) {
+        int st = 0;
+        if (t == "max") {
+          st = u->max_stages(cfg);
+        } else {
+          try {
+            size_t used = 0;
+            st = std::stoi(t, &used);
+            if (used != t.size() || st < 0) throw std::invalid_argument(t);
+          } catch (const std::exception&) {
+            throw ReportError("--param " + key + ": expected Stages numbers or 'max', got '" + t + "'");
+          }
+        }
+        if (std::find(seen.begin(), seen.end(), st) != seen.end()) continue;
+        seen.push_back(st);
+        pts.push_back({un, f, st});
+      }
+    }
+  }
+  return pts;
+}
+
+const std::vector<std::string> kCellHeader = {"area (um2, fastest)", "Fmax (MHz, fastest)", "cycle (FO4, fastest)",
+                                              "area (um2, smallest)", "Fmax (MHz, smallest)", "cell rows"};
+const char* const kCellIntro =
+    "Cell flow: osu018 180 nm standard cells, timed by OpenSTA (synth/README.md, \"The cell-library flow\": area "
+    "in um2, Fmax = 1 / (period - slack) through a register harness, before placement; FO4 = 98.3 ps), at the two "
+    "target clocks of the default grid (sweeps/default.toml): 200 ps, the fastest mapping ABC finds, and 1 us, "
+    "the smallest (area-oriented) one. The column \"cell rows\" says for each point whether its rows were read "
+    "from the checked-in results (file:line) or measured by this report run; the list under the table gives each "
+    "file's recorded command and commit.\n\n";
 
 // ---- section: synthesis -----------------------------------------------------------------------
 
@@ -256,56 +432,75 @@ std::string synthesis_section(Context& ctx) {
   const std::string units = ctx.param("synthesis.units", "fp_add,fp_mul,fp_div");
   const std::string formats = ctx.param("synthesis.formats", "e5m10,e6m12,e7m16,e8m23");
   const std::string stages = ctx.param("synthesis.stages", "0,4");
+  const std::string cell_stages = ctx.param("synthesis.cell_stages", "0,max");
   const bool fpga = ctx.param("synthesis.fpga", "1") != "0";
-  const Sweep sw = run_sweep(ctx, "synth", units, formats, stages, fpga ? Flow::Ice40Fmax : Flow::Ice40Luts);
+  const bool generic = ctx.param("synthesis.generic", "1") != "0";
+  if (!ctx.opts.live_synth) checked_in(ctx);  // a malformed checked-in file fails before anything runs
 
-  const CellRows cr = run_cell_rows(ctx, "synth_osu018", sw.rows);
+  const std::vector<CellPoint> pts =
+      cell_points("synthesis.units/formats/cell_stages", split_list(units), split_list(formats), cell_stages);
+  const CellRows cr = run_cell_rows(ctx, "synth_osu018", pts);
 
   std::string md =
-      "The speed side of the speed/accuracy trade: every unit mapped onto the osu018 180 nm standard-cell library "
-      "and timed by OpenSTA (synth/README.md, \"The cell-library flow\": area in um2, Fmax = 1 / (period - slack) "
-      "through a register harness, before placement; FO4 = 98.3 ps), beside the generic flow's estimates (Yosys "
-      "gates in NAND2 equivalents, worst-stage depth from `ltp -noff` and its fo4-v1 delay estimate) and iCE40 "
-      "HX8K place and route by nextpnr. The accuracy side is the section above: its rows for the same formats "
-      "are repeated here.\n\n" +
-      code_block("cd REPORT && " + cr.cmd + "\ncd REPORT && " + sw.cmd);
-  Table t;
-  for (const auto& r : sw.rows) {
-    std::vector<std::string> row{r.unit, r.format, std::to_string(r.stages)};
-    if (!r.error.empty()) {
-      row.insert(row.end(), {"error: " + r.error, "", "", "", "", "", "", "", ""});
-    } else {
-      auto k = cr.cells(r.unit, r.format, r.stages);
+      "The speed side of the speed/accuracy trade: every unit mapped onto the osu018 standard-cell library, beside "
+      "the generic flow's estimates (Yosys gates in NAND2 equivalents, worst-stage depth from `ltp -noff` and its "
+      "fo4-v1 delay estimate) and iCE40 HX8K place and route by nextpnr. The accuracy side is the section above: "
+      "its rows for the same formats are repeated here.\n\n### Cell flow (osu018, OpenSTA)\n\n" +
+      std::string(kCellIntro);
+  if (cr.n_live > 0) md += code_block("cd REPORT && " + cr.cmd);
+  {
+    Table t;
+    for (const auto& p : pts) {
+      std::vector<std::string> row{p.unit, p.format, std::to_string(p.stages)};
+      auto k = cr.cells(p.unit, p.format, p.stages);
       row.insert(row.end(), k.begin(), k.end());
-      auto c = synth_cells(r);
-      row.insert(row.end(), c.begin(), c.end());
+      t.push_back(row);
     }
-    t.push_back(row);
+    std::vector<std::string> h{"unit", "format", "stages"};
+    h.insert(h.end(), kCellHeader.begin(), kCellHeader.end());
+    md += ru::report::md_table(h, t) + "\n" + cr.sources_md() +
+          "Data: [synth_osu018.jsonl](synth_osu018.jsonl) (every row used, with its \"report_source\").\n\n";
   }
-  md += ru::report::md_table(
-      {"unit", "format", "stages", "area (um2, osu018)", "Fmax (MHz, STA)", "cycle (FO4)", "area est. (NAND2-eq)",
-       "register bits", "depth (gates)", "stage est. (ps, fo4-v1)", "iCE40 LUTs", "iCE40 Fmax (MHz)"},
-      t);
-  md += "\nData: [synth/synth_sweep.csv](synth/synth_sweep.csv), one JSON per point in `synth/points/`; tool "
-        "output in [synth.txt](synth.txt).\n\n";
-  if (ctx.opts.plots) md += "![area vs fraction bits, Fmax vs stages](synth/synth_sweep.png)\n\n";
+
+  if (generic) {
+    const Sweep sw = run_sweep(ctx, "synth", units, formats, stages, fpga ? Flow::Ice40Fmax : Flow::Ice40Luts);
+    md += "### Generic gates and iCE40 (measured now)\n\n" + code_block("cd REPORT && " + sw.cmd);
+    Table t;
+    for (const auto& r : sw.rows) {
+      std::vector<std::string> row{r.unit, r.format, std::to_string(r.stages)};
+      if (!r.error.empty()) {
+        row.insert(row.end(), {"error: " + r.error, "", "", "", "", ""});
+      } else {
+        auto c = synth_cells(r);
+        row.insert(row.end(), c.begin(), c.end());
+      }
+      t.push_back(row);
+    }
+    md += ru::report::md_table({"unit", "format", "stages", "area est. (NAND2-eq)", "register bits", "depth (gates)",
+                                "stage est. (ps, fo4-v1)", "iCE40 LUTs", "iCE40 Fmax (MHz)"},
+                               t);
+    md += "\nData: [synth/synth_sweep.csv](synth/synth_sweep.csv), one JSON per point in `synth/points/`; tool "
+          "output in [synth.txt](synth.txt).\n\n";
+    if (ctx.opts.plots) md += "![area vs fraction bits, Fmax vs stages](synth/synth_sweep.png)\n\n";
+  }
 
   // Side by side with the accuracy section, when it ran in this report.
   if (!ctx.accuracy.empty()) {
     const auto& accm = ctx.accuracy;
     Table s;
-    for (const auto& r : sw.rows) {
-      if (r.stages != 0 || !r.error.empty()) continue;
-      const std::string op = r.unit.substr(3);  // fp_mul -> mul
-      auto it = accm.find(r.format + " " + op);
+    for (const auto& p : pts) {
+      if (p.stages != 0) continue;
+      const std::string op = p.unit.substr(3);  // fp_mul -> mul
+      auto it = accm.find(p.format + " " + op);
       if (it == accm.end()) continue;
-      const auto k = cr.cells(r.unit, r.format, r.stages);
-      s.push_back({r.unit, r.format, k[0], k[1], fmt("%.3g", it->second.mean_rel), fmt("%.3g", it->second.max_rel),
+      const auto k = cr.cells(p.unit, p.format, p.stages);
+      s.push_back({p.unit, p.format, k[3], k[1], fmt("%.3g", it->second.mean_rel), fmt("%.3g", it->second.max_rel),
                    std::to_string(it->second.out_of_range)});
     }
     if (!s.empty()) {
-      md += "Speed and accuracy side by side (combinational units; errors from the accuracy section's workload):\n\n";
-      md += ru::report::md_table({"unit", "format", "area (um2, osu018)", "Fmax (MHz, STA)", "mean rel. error",
+      md += "Speed and accuracy side by side (combinational units; errors from the accuracy section's workload; "
+            "cell rows as in the table above):\n\n";
+      md += ru::report::md_table({"unit", "format", "area (um2, smallest)", "Fmax (MHz, fastest)", "mean rel. error",
                                   "max rel. error", "out of range"},
                                  s);
     }
@@ -464,6 +659,7 @@ std::string noise_section(Context& ctx) {
   const std::string range = ctx.param("noise.range_samples", "10000000");
   const std::string stages = ctx.param("noise.stages", "0,2,4");
   const bool synth = ctx.param("noise.synth", "1") != "0";
+  if (synth && !ctx.opts.live_synth) checked_in(ctx);  // a malformed checked-in file fails before anything runs
   std::vector<std::string> a{"--out", ctx.path("noise").string(), "--size", size, "--error-samples", samples,
                              "--range-samples", range, "--seed", std::to_string(ctx.opts.seed), "--quiet"};
   if (!ctx.opts.plots) a.push_back("--no-plot");
@@ -507,11 +703,26 @@ std::string noise_section(Context& ctx) {
   if (synth) {
     // Table 4.1 in this flow: the unit by pipeline depth, and the e8m23 FP units beside it.
     // it does not fit an iCE40; the sweep's plot is for FP formats (the table shows the noise rows)
+    std::vector<CellPoint> cell_pts = cell_points("noise.stages", {"noise"}, {}, stages);
+    for (const char* u : {"fp_add", "fp_mul", "fp_dot3"}) cell_pts.push_back({u, "e8m23", 0});
+    const CellRows cr = run_cell_rows(ctx, "noise_osu018", cell_pts);
     const Sweep nz = run_sweep(ctx, "noise_synth", "noise", "", stages, Flow::Ice40Luts, false);
     const Sweep fp = run_sweep(ctx, "noise_fp_synth", "fp_add,fp_mul,fp_dot3", "e8m23", "0", Flow::Generic);
-    std::vector<synth::SweepRow> cell_pts = nz.rows;
-    cell_pts.insert(cell_pts.end(), fp.rows.begin(), fp.rows.end());
-    const CellRows cr = run_cell_rows(ctx, "noise_osu018", cell_pts);
+    {
+      Table t;
+      for (const auto& p : cell_pts) {
+        std::vector<std::string> row{p.unit, p.format.empty() ? "-" : p.format, std::to_string(p.stages)};
+        auto k = cr.cells(p.unit, p.format, p.stages);
+        row.insert(row.end(), k.begin(), k.end());
+        t.push_back(row);
+      }
+      std::vector<std::string> h{"unit", "format", "stages"};
+      h.insert(h.end(), kCellHeader.begin(), kCellHeader.end());
+      md += "### Area and speed by pipeline depth (Table 4.1 in this flow)\n\n" + std::string(kCellIntro);
+      if (cr.n_live > 0) md += code_block("cd REPORT && " + cr.cmd);
+      md += ru::report::md_table(h, t) + "\n" + cr.sources_md() +
+            "Data: [noise_osu018.jsonl](noise_osu018.jsonl) (every row used, with its \"report_source\").\n\n";
+    }
     Table t;
     for (const auto& r : nz.rows) {
       if (!r.error.empty()) {
@@ -519,26 +730,23 @@ std::string noise_section(Context& ctx) {
         continue;
       }
       std::vector<std::string> row{std::to_string(r.stages)};
-      auto k = cr.cells("noise", "", r.stages);
-      row.insert(row.end(), k.begin(), k.end());
       auto cells = synth_cells(r);
       row.insert(row.end(), cells.begin(), cells.end());
       t.push_back(row);
     }
-    md += "### Area and speed by pipeline depth (Table 4.1 in this flow)\n\n" +
-          code_block("cd REPORT && " + cr.cmd + "\ncd REPORT && " + nz.cmd + "\ncd REPORT && " + fp.cmd) +
-          ru::report::md_table({"stages", "area (um2, osu018)", "Fmax (MHz, STA)", "cycle (FO4)", "area est. (NAND2-eq)",
-                                "register bits", "depth (gates)", "stage est. (ps, fo4-v1)", "iCE40 LUTs",
-                                "iCE40 Fmax (MHz)"},
+    md += "Generic gates and iCE40 (measured now):\n\n" +
+          code_block("cd REPORT && " + nz.cmd + "\ncd REPORT && " + fp.cmd) +
+          ru::report::md_table({"stages", "area est. (NAND2-eq)", "register bits", "depth (gates)",
+                                "stage est. (ps, fo4-v1)", "iCE40 LUTs", "iCE40 Fmax (MHz)"},
                                t);
     {
       auto um2 = [&](const std::string& u, const std::string& f) {
-        const nlohmann::json* j = cr.find(u, f, 0);
-        return j ? (*j)["area_um2"].get<double>() : std::nan("");
+        const CellEnds* e = cr.find(u, f, 0);
+        return e ? e->small["area_um2"].get<double>() : std::nan("");
       };
       const double n = um2("noise", ""), a = um2("fp_add", "e8m23"), m = um2("fp_mul", "e8m23"),
                    d = um2("fp_dot3", "e8m23");
-      md += "\nIn osu018 (Stages 0, um2): noise / (fp_add + fp_mul) = " + fmt("%.2f", n / (a + m)) +
+      md += "\nIn osu018 (Stages 0, um2 of the smallest mappings): noise / (fp_add + fp_mul) = " + fmt("%.2f", n / (a + m)) +
             ", noise / fp_dot3 = " + fmt("%.2f", n / d) + " (noise " + fmt("%.0f", n) + ", fp_add " + fmt("%.0f", a) +
             ", fp_mul " + fmt("%.0f", m) + ", fp_dot3 " + fmt("%.0f", d) +
             "). The generic-gate ratios below are estimates.\n";

@@ -44,6 +44,11 @@ struct Options {
   std::string command;                        // the command line, recorded in the report
   bool quiet = false;                         // no progress on stderr
   bool plots = true;                          // false: sections skip their plots (no python)
+  // Cell-flow rows of the synthesis and noise sections: read from these checked-in results
+  // (files or directories, ru::synth::CheckedInRows::load) when current; empty: the defaults
+  // (sweeps/results/default and synth/results/cell of the source tree). live_synth: never read.
+  std::vector<std::string> checked_in;
+  bool live_synth = false;
 };
 
 class Context;

@@ -1,0 +1,155 @@
+// The report's cell-flow rows read from checked-in results (issue 17 §4): a planted row whose
+// rtl_hash is the hash of the current RTL is read (its planted values and its file:line, command
+// and commit appear in the report); the same row with a changed rtl_hash is not used (the point
+// is synthesized now and the report says the row was stale); --live-synth ignores a current row;
+// a malformed results file is one error line, nothing half-written. The report runs only the
+// cell table of the synthesis section (synthesis.generic=0) for fp_cmp e5m10 Stages 0, so the
+// live cases cost one small cell-flow run (a few seconds).
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "../common/run_rayunits.hpp"
+#include "../common/temp_dir.hpp"
+#include "rayunits/num/format.hpp"
+#include "rayunits/synth/checked_in.hpp"
+#include "rayunits/synth/units.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+std::string slurp(const fs::path& p) {
+  std::ifstream f(p, std::ios::binary);
+  std::stringstream s;
+  s << f.rdbuf();
+  return s.str();
+}
+
+int count_lines(const std::string& s) {
+  int n = 0;
+  for (char c : s) n += c == '\n';
+  return n;
+}
+
+// The current RTL hash and wrapper top of fp_cmp e5m10 Stages 0, computed by the library the
+// report uses (not copied from a results file).
+struct Point {
+  std::string top, hash;
+  bool share = true;
+  Point() {
+    const auto& u = ru::synth::find_unit("fp_cmp");
+    ru::synth::UnitConfig c;
+    c.fmt = ru::num::Format::parse("e5m10");
+    c.stages = 0;
+    top = ru::synth::wrapper_name(u, c);
+    hash = ru::synth::sources_hash(ru::synth::resolve_sources(u, ru::synth::default_rtl_dir()));
+    share = u.synth_share;
+  }
+};
+
+// One synthesis row of the cell flow with planted (implausible) values.
+json planted_row(const Point& p, const std::string& hash, double clock_ps, double area, double fmax) {
+  return {{"unit", "fp_cmp"},     {"top", p.top},           {"format", "e5m10"},   {"stages", 0},
+          {"flow", "osu018"},     {"target_clock_ps", clock_ps}, {"area_um2", area}, {"fmax_mhz", fmax},
+          {"period_fo4", 4.25},   {"placement", "depth"},   {"resource_sharing", p.share},
+          {"rtl_hash", hash}};
+}
+
+// A sweep results.jsonl with one job line holding both clocks' rows.
+void write_results(const fs::path& dir, const Point& p, const std::string& hash) {
+  fs::create_directories(dir);
+  json job = {{"argv", {"rayunits", "synth", "fp_cmp", "--planted-command"}},
+              {"deps", {{"tool", "rayunits 0.1 model plantedcommit0123"}}},
+              {"error", ""},
+              {"exit", 0},
+              {"result", {planted_row(p, hash, 200, 12345, 777.7), planted_row(p, hash, 1000000, 54321, 55.5)}}};
+  std::ofstream(dir / "results.jsonl") << job.dump() << "\n";
+}
+
+ru::test::CmdRun report(const fs::path& results, const fs::path& out, bool live = false) {
+  std::vector<std::string> a = {"report",        "--sections", "synthesis",  "--no-plots", "--quiet",
+                                "--param",       "synthesis.generic=0",      "--param",    "synthesis.units=fp_cmp",
+                                "--param",       "synthesis.formats=e5m10",  "--param",    "synthesis.cell_stages=0",
+                                "--checked-in",  results.string(),           "--out",      out.string()};
+  if (live) a.push_back("--live-synth");
+  return ru::test::run_rayunits(a, 300);
+}
+
+TEST(ReportCheckedIn, CurrentRowIsRead) {
+  ru::test::TempDir t("ru_checked_in");
+  const Point p;
+  write_results(t.p / "res", p, p.hash);
+  const auto r = report(t.p / "res", t.p / "rep");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string md = slurp(t.p / "rep" / "index.md");
+  EXPECT_NE(md.find("| 12345 | 777.7 |"), std::string::npos) << md;  // the planted fastest row
+  EXPECT_NE(md.find("| 54321 | 55.5 |"), std::string::npos) << md;   // the planted smallest row
+  EXPECT_NE(md.find("read: " + (t.p / "res" / "results.jsonl").string() + ":1"), std::string::npos) << md;
+  EXPECT_NE(md.find("plantedcommit0123"), std::string::npos) << md;
+  EXPECT_NE(md.find("--planted-command"), std::string::npos) << md;
+  EXPECT_NE(md.find("1 point(s) read from checked-in results, 0 measured now"), std::string::npos) << md;
+  EXPECT_NE(slurp(t.p / "rep" / "synth_osu018.jsonl").find("\"report_source\":\"read: "), std::string::npos);
+}
+
+TEST(ReportCheckedIn, ChangedRtlHashIsNotUsed) {
+  ru::test::TempDir t("ru_checked_in");
+  const Point p;
+  std::string other = p.hash;
+  other.back() = other.back() == '0' ? '1' : '0';
+  write_results(t.p / "res", p, other);
+  const auto r = report(t.p / "res", t.p / "rep");
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string md = slurp(t.p / "rep" / "index.md");
+  EXPECT_EQ(md.find("12345"), std::string::npos) << md;
+  EXPECT_EQ(md.find("54321"), std::string::npos) << md;
+  EXPECT_NE(md.find("measured now (checked-in row stale)"), std::string::npos) << md;
+  EXPECT_NE(md.find("has rtl_hash " + other + ", the current RTL " + p.hash), std::string::npos) << md;
+  EXPECT_NE(md.find("0 point(s) read from checked-in results, 1 measured now"), std::string::npos) << md;
+}
+
+TEST(ReportCheckedIn, LiveSynthIgnoresACurrentRow) {
+  ru::test::TempDir t("ru_checked_in");
+  const Point p;
+  write_results(t.p / "res", p, p.hash);
+  const auto r = report(t.p / "res", t.p / "rep", true);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const std::string md = slurp(t.p / "rep" / "index.md");
+  EXPECT_EQ(md.find("12345"), std::string::npos) << md;
+  EXPECT_NE(md.find("measured now (--live-synth)"), std::string::npos) << md;
+}
+
+TEST(ReportCheckedIn, MalformedFileIsOneErrorLine) {
+  ru::test::TempDir t("ru_checked_in");
+  const Point p;
+  struct Case {
+    std::string second_line, must_contain;
+  };
+  json no_hash = planted_row(p, p.hash, 200, 1, 1);
+  no_hash.erase("rtl_hash");
+  for (const Case& c : {Case{"{\"argv\": [\"rayunits\"], \"result\": [", "results.jsonl:2: malformed results row: not JSON"},
+                        Case{"[1, 2]", "results.jsonl:2: malformed results row: expected a JSON object"},
+                        Case{no_hash.dump(), "results.jsonl:2: malformed results row: no \"rtl_hash\""}}) {
+    write_results(t.p / "res", p, p.hash);
+    std::ofstream(t.p / "res" / "results.jsonl", std::ios::app) << c.second_line << "\n";
+    const auto r = report(t.p / "res", t.p / "rep");
+    EXPECT_EQ(r.code, 2) << r.err;
+    EXPECT_EQ(count_lines(r.err), 1) << r.err;
+    EXPECT_EQ(r.err.rfind("rayunits report: error: ", 0), 0u) << r.err;
+    EXPECT_NE(r.err.find(c.must_contain), std::string::npos) << r.err;
+    EXPECT_FALSE(fs::exists(t.p / "rep"));
+  }
+}
+
+// The repository's own checked-in results load (a malformed line there would stop every report).
+TEST(ReportCheckedIn, RepositoryResultsLoad) {
+  const std::string src = RU_SOURCE_DIR;
+  const auto rows = ru::synth::CheckedInRows::load({src + "/sweeps/results/default", src + "/synth/results/cell"});
+  EXPECT_GT(rows.rows().size(), 0u);
+  EXPECT_EQ(rows.files().front(), src + "/sweeps/results/default/results.jsonl");
+}
+
+}  // namespace
