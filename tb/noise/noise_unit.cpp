@@ -1,5 +1,6 @@
-// rayunits tb: adapter and test plan of the noise unit ru_noise (rtl/ru_noise.sv) against the
-// bit-accurate model ru::noise::FixedNoise, on the generic cycle-by-cycle scoreboard (tb/README.md).
+// rayunits tb: test plan of the noise unit ru_noise (rtl/ru_noise.sv) against the bit-accurate
+// model ru::noise::FixedNoise (the registry's golden model), on the generic cycle-by-cycle
+// scoreboard (tb/README.md).
 //
 // Configuration parameters: FracBits, IntBits, OutW (RTL defaults 8, 8, 10) and Stages.
 // Ports: x_i, y_i, z_i (IntBits+FracBits bits each), value_o (OutW bits).
@@ -29,6 +30,7 @@
 
 #include "rayunits/noise/fixed.hpp"
 #include "rayunits/tb/harness.hpp"
+#include "rayunits/tb/registry_adapter.hpp"
 #include "rayunits/tb/testing.hpp"
 
 namespace ru::tb {
@@ -46,37 +48,19 @@ FixedConfig noise_config(const ConfigDesc& cfg) {
   return c;
 }
 
-class NoiseAdapter final : public UnitAdapter {
+synth::UnitConfig noise_unit_config(const FixedConfig& c, int stages) {
+  synth::UnitConfig u;
+  u.stages = stages;
+  u.params = {{"FracBits", c.frac_bits}, {"IntBits", c.int_bits}, {"OutW", c.out_w}};
+  return u;
+}
+
+// The registry adapter (ports, records, golden model ru::noise::FixedNoise: registry_adapter.hpp),
+// printing values as coordinates and noise values.
+class NoiseAdapter final : public RegistryAdapter {
  public:
-  NoiseAdapter(const FixedConfig& c, int /*stages: the harness owns the latency*/) : model_(c) {
-    const int w = c.in_w();
-    ins_ = {{"x_i", w, FieldKind::Hex, {}}, {"y_i", w, FieldKind::Hex, {}}, {"z_i", w, FieldKind::Hex, {}}};
-    outs_ = {{"value_o", c.out_w, FieldKind::Hex, {}}};
-  }
-  std::string describe() const override {
-    return "noise " + model_.config().describe();
-  }
-  const std::vector<FieldInfo>& inputs() const override { return ins_; }
-  const std::vector<FieldInfo>& outputs() const override { return outs_; }
-  void bind(const PortMap& ports) override {
-    x_ = ports.get("x_i");
-    y_ = ports.get("y_i");
-    z_ = ports.get("z_i");
-    v_ = ports.get("value_o");
-    if (x_.bits() != ins_[0].bits || v_.bits() != outs_[0].bits)
-      throw std::runtime_error("noise adapter: port widths do not match the configuration");
-  }
-  void drive(const Record& in) override {
-    x_.set(in.v[0]);
-    y_.set(in.v[1]);
-    z_.set(in.v[2]);
-  }
-  void read(Record& out) override { out.v[0] = v_.get(); }
-  void model(const Record& in, Record& out) override {
-    const std::int64_t v = model_.eval(static_cast<std::int64_t>(in.v[0]), static_cast<std::int64_t>(in.v[1]),
-                                       static_cast<std::int64_t>(in.v[2]));
-    out.v[0] = static_cast<std::uint64_t>(v) & outs_[0].mask();
-  }
+  NoiseAdapter(const FixedConfig& c, int stages)
+      : RegistryAdapter(synth::find_unit("noise"), noise_unit_config(c, stages)), model_(c) {}
   std::string decimal(const FieldInfo& f, std::uint64_t v) const override {
     char b[64];
     if (f.name == "value_o") {
@@ -87,12 +71,9 @@ class NoiseAdapter final : public UnitAdapter {
     }
     return b;
   }
-  const FixedNoise& fixed() const { return model_; }
 
  private:
   FixedNoise model_;
-  std::vector<FieldInfo> ins_, outs_;
-  Port x_, y_, z_, v_;
 };
 
 // A source defined by a function of the vector index.

@@ -2,15 +2,15 @@
 // ru_ray_tri_robust and ru_ray_tri_mt (issue 4 section 2), plugged into the generic
 // cycle-by-cycle scoreboard (tb/include/rayunits/tb/harness.hpp).
 //
-// Records (one uint64_t bit pattern of the configuration's format per field):
-//   ray_box   in:  o.x o.y o.z inv.x inv.y inv.z lo.x lo.y lo.z hi.x hi.y hi.z t_min t_max
-//                  (the order of a trace BoxRecord); driven as org_i = {o.z, o.y, o.x}, ...
+// Records are the registry's (synth::fields_for: data ports in declaration order, vectors split
+// into their elements; one uint64_t bit pattern of the configuration's format per field):
+//   ray_box   in:  org.xyz rdir.xyz tmin tmax bmin.xyz bmax.xyz; driven as org_i = {z, y, x}, ...
 //             out: hit_o, t_enter_o, t_exit_o
-//   ray_tri_* in:  a.xyz d.xyz p0.xyz p1.xyz p2.xyz t_min t_max (the order of a TriRecord)
-//             out: hit_o, why_o, t_o, beta_o, gamma_o, and with OptVolOut = 1 also
-//                  V, Va, V0, V1, V2 (vol_o = {V2, V1, V0, Va, V})
-// Golden models: ru::units::ray_box / ray_tri_robust / ray_tri_mt with ru::num::Soft in the
-// configuration's Format (model/include/rayunits/units/*.hpp).
+//   ray_tri_* in:  a.xyz d.xyz p0.xyz p1.xyz p2.xyz tmin tmax (the order of a TriRecord)
+//             out: hit_o, why_o, t_o, beta_o, gamma_o, V, Va, V0, V1, V2 (vol_o = {V2, V1, V0,
+//                  Va, V}; constant 0 unless OptVolOut = 1)
+// Golden models: the registry's (model/src/synth/unit_models.cpp: ru::units::ray_box /
+// ray_tri_robust / ray_tri_mt with ru::num::Soft in the configuration's Format).
 #pragma once
 
 #include <cstdint>
@@ -21,6 +21,7 @@
 #include "rayunits/num/format.hpp"
 #include "rayunits/tb/dut.hpp"
 #include "rayunits/tb/harness.hpp"
+#include "rayunits/tb/registry_adapter.hpp"
 #include "rayunits/units/ray_tri.hpp"
 #include "rayunits/units/trace.hpp"
 
@@ -55,27 +56,11 @@ enum class Mutant : uint8_t {
 };
 const char* mutant_name(Mutant m);
 
-class RayAdapter final : public UnitAdapter {
- public:
-  explicit RayAdapter(const RayConfig& c, Mutant m = Mutant::None);
-  std::string describe() const override;
-  const std::vector<FieldInfo>& inputs() const override { return ins_; }
-  const std::vector<FieldInfo>& outputs() const override { return outs_; }
-  void bind(const PortMap& ports) override;
-  void drive(const Record& in) override;
-  void read(Record& out) override;
-  void model(const Record& in, Record& out) override;
-  std::string decimal(const FieldInfo& f, uint64_t v) const override;
-
- private:
-  RayConfig c_;
-  Mutant mut_;
-  int W_;
-  std::vector<FieldInfo> ins_, outs_;
-  std::vector<Port> in_ports_;   // vector ports (3W) and scalar ports, in record order groups
-  std::vector<int> in_groups_;   // fields per input port (3 or 1)
-  Port hit_, why_, t_, beta_, gamma_, vol_, tenter_, texit_;
-};
+// The registry configuration of a RayConfig (its RTL parameters).
+synth::UnitConfig ray_unit_config(const RayConfig& c);
+// The registry adapter (fields, ports, golden model: registry_adapter.hpp) of the configuration,
+// with the planted error `m` in its golden model.
+std::unique_ptr<RegistryAdapter> ray_adapter(const RayConfig& c, Mutant m = Mutant::None);
 
 // ---- vectors ---------------------------------------------------------------------------------
 // Every generator is deterministic in (format, seed, count). Doubles are rounded into the

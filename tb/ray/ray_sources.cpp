@@ -38,13 +38,16 @@ struct Conv {
     R.v[16] = (*this)(r.t_max);
     return R;
   }
-  Record box(const BoxRecord& r) const {
+  Record box(const BoxRecord& r) const {  // the registry's order: org rdir tmin tmax bmin bmax
     Record R{};
-    int i = 0;
-    for (const Vec3d* v : {&r.o, &r.inv, &r.lo, &r.hi})
-      for (int k = 0; k < 3; ++k) R.v[i++] = (*this)((*v)[k]);
-    R.v[12] = (*this)(r.t_min);
-    R.v[13] = (*this)(r.t_max);
+    for (int k = 0; k < 3; ++k) {
+      R.v[k] = (*this)(r.o[k]);
+      R.v[3 + k] = (*this)(r.inv[k]);
+      R.v[8 + k] = (*this)(r.lo[k]);
+      R.v[11 + k] = (*this)(r.hi[k]);
+    }
+    R.v[6] = (*this)(r.t_min);
+    R.v[7] = (*this)(r.t_max);
     return R;
   }
 };

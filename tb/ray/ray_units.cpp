@@ -77,165 +77,47 @@ std::string describe(const RayConfig& c) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Adapter
+// Adapter: the registry's, with the planted errors in its golden model
 
-namespace {
-
-// Packs n W-bit fields (field 0 in the low bits) into 64-bit words.
-void pack(const uint64_t* x, int n, int W, uint64_t* w, int nwords) {
-  for (int i = 0; i < nwords; ++i) w[i] = 0;
-  for (int i = 0; i < n; ++i) {
-    const int pos = i * W, wi = pos / 64, sh = pos % 64;
-    w[wi] |= x[i] << sh;
-    if (sh && sh + W > 64) w[wi + 1] |= x[i] >> (64 - sh);
+synth::UnitConfig ray_unit_config(const RayConfig& c) {
+  synth::UnitConfig u;
+  u.fmt = c.f;
+  u.stages = c.stages;
+  if (c.unit == Unit::Box) {
+    u.params["OptConservative"] = c.dcons ? 2 : c.conservative ? 1 : 0;
+    return u;
   }
-}
-void unpack(const uint64_t* w, int n, int W, uint64_t* x) {
-  const uint64_t m = W >= 64 ? ~0ull : ((1ull << W) - 1);
-  for (int i = 0; i < n; ++i) {
-    const int pos = i * W, wi = pos / 64, sh = pos % 64;
-    uint64_t v = w[wi] >> sh;
-    if (sh && sh + W > 64) v |= w[wi + 1] << (64 - sh);
-    x[i] = v & m;
+  if (c.unit == Unit::Robust) {
+    u.params["OptTieBreak"] = c.tie_break;
+    u.params["OptRecip"] = c.recip;
   }
+  u.params["OptEpsTest"] = c.eps_test;
+  u.params["EpsBits"] = static_cast<long long>(c.eps_bits);
+  u.params["OptVolOut"] = c.vol_out;
+  return u;
 }
 
-
-}  // namespace
-
-RayAdapter::RayAdapter(const RayConfig& c, Mutant m) : c_(c), mut_(m), W_(c.f.width()) {
-  auto vec = [&](const std::string& n) {
-    for (const char* k : {".x", ".y", ".z"}) ins_.push_back({n + k, W_, FieldKind::Float, {}});
-  };
-  auto scalar = [&](const std::string& n) { ins_.push_back({n, W_, FieldKind::Float, {}}); };
-  outs_.push_back({"hit_o", 1, FieldKind::Hex, {}});
-  if (c_.unit == Unit::Box) {
-    vec("org"), vec("rdir"), vec("bmin"), vec("bmax"), scalar("tmin"), scalar("tmax");
-    outs_.push_back({"t_enter_o", W_, FieldKind::Float, {}});
-    outs_.push_back({"t_exit_o", W_, FieldKind::Float, {}});
-  } else {
-    vec("a"), vec("d"), vec("p0"), vec("p1"), vec("p2"), scalar("tmin"), scalar("tmax");
-    outs_.push_back({"why_o", 3, FieldKind::Enum, {"hit", "sign", "tie_break", "eps", "interval"}});
-    outs_.push_back({"t_o", W_, FieldKind::Float, {}});
-    outs_.push_back({"beta_o", W_, FieldKind::Float, {}});
-    outs_.push_back({"gamma_o", W_, FieldKind::Float, {}});
-    if (c_.vol_out)
-      for (const char* n : {"V", "Va", "V0", "V1", "V2"}) outs_.push_back({n, W_, FieldKind::Float, {}});
-  }
-}
-
-std::string RayAdapter::describe() const {
-  std::string s = ray::describe(c_);
-  if (mut_ != Mutant::None) s += std::string(" [planted: ") + mutant_name(mut_) + "]";
-  return s;
-}
-
-void RayAdapter::bind(const PortMap& pm) {
-  in_ports_.clear();
-  in_groups_.clear();
-  auto add = [&](const char* name, int n) {
-    Port p = pm.get(name);
-    if (p.bits() != n * W_) throw std::runtime_error(describe() + ": port " + name + " width mismatch");
-    in_ports_.push_back(p);
-    in_groups_.push_back(n);
-  };
-  hit_ = pm.get("hit_o");
-  if (c_.unit == Unit::Box) {
-    add("org_i", 3), add("rdir_i", 3), add("bmin_i", 3), add("bmax_i", 3), add("tmin_i", 1), add("tmax_i", 1);
-    tenter_ = pm.get("t_enter_o");
-    texit_ = pm.get("t_exit_o");
-  } else {
-    add("a_i", 3), add("d_i", 3), add("p0_i", 3), add("p1_i", 3), add("p2_i", 3), add("tmin_i", 1), add("tmax_i", 1);
-    why_ = pm.get("why_o");
-    t_ = pm.get("t_o");
-    beta_ = pm.get("beta_o");
-    gamma_ = pm.get("gamma_o");
-    vol_ = pm.get("vol_o");
-    if (vol_.bits() != 5 * W_ || t_.bits() != W_) throw std::runtime_error(describe() + ": output width mismatch");
-  }
-}
-
-void RayAdapter::drive(const Record& in) {
-  int field = 0;
-  for (size_t g = 0; g < in_ports_.size(); ++g) {
-    const int n = in_groups_[g];
-    uint64_t w[4];
-    pack(&in.v[field], n, W_, w, 4);
-    in_ports_[g].set_words(w, 4);
-    field += n;
-  }
-}
-
-void RayAdapter::read(Record& out) {
-  out.v[0] = hit_.get();
-  if (c_.unit == Unit::Box) {
-    out.v[1] = tenter_.get();
-    out.v[2] = texit_.get();
-    return;
-  }
-  out.v[1] = why_.get();
-  out.v[2] = t_.get();
-  out.v[3] = beta_.get();
-  out.v[4] = gamma_.get();
-  if (c_.vol_out) {
-    uint64_t w[5] = {}, x[5];
-    vol_.get_words(w);
-    unpack(w, 5, W_, x);
-    for (int i = 0; i < 5; ++i) out.v[5 + i] = x[i];
-  }
-}
-
-void RayAdapter::model(const Record& in0, Record& out) {
-  Record in = in0;
-  Format f = c_.f;
-  bool conservative = c_.conservative, dcons = c_.dcons, tie = c_.tie_break, recip = c_.recip;
-  switch (mut_) {
-    case Mutant::None: break;
-    case Mutant::Rounding: f.round = ru::num::Round::RTZ; break;
-    case Mutant::InputLsb: in.v[4] ^= 1; break;  // rdir.y / d.y
+std::unique_ptr<RegistryAdapter> ray_adapter(const RayConfig& c, Mutant m) {
+  const char* unit = c.unit == Unit::Box ? "ray_box" : c.unit == Unit::Robust ? "ray_tri_robust" : "ray_tri_mt";
+  const synth::UnitConfig rtl = ray_unit_config(c);
+  RayConfig mc = c;
+  switch (m) {
+    case Mutant::None:
+    case Mutant::InputLsb: break;
+    case Mutant::Rounding: mc.f.round = ru::num::Round::RTZ; break;  // every op rounds toward zero
     case Mutant::ModeSwap:
-      conservative = dcons || !conservative;
-      dcons = false;
-      tie = !tie;
-      recip = !recip;
+      mc.conservative = c.dcons || !c.conservative;  // plain <-> conservative, d-conservative -> conservative
+      mc.dcons = false;
+      mc.tie_break = !c.tie_break;
+      mc.recip = !c.recip;
       break;
   }
-  ru::num::SoftScope scope(f);
-  auto S = [&](int i) { return Soft::from_bits(in.v[i]); };
-  auto V = [&](int i) { return Vec3<Soft>{S(i), S(i + 1), S(i + 2)}; };
-  if (c_.unit == Unit::Box) {
-    using ru::units::BoxMode;
-    const auto r = ru::units::ray_box(V(0), V(3), V(6), V(9), S(12), S(13),
-                                      dcons ? BoxMode::DConservative : conservative ? BoxMode::Conservative : BoxMode::Plain);
-    out.v[0] = r.hit;
-    out.v[1] = r.t_enter.bits;
-    out.v[2] = r.t_exit.bits;
-    return;
-  }
-  ru::units::TriOptions opt;
-  opt.tie_break = tie;
-  opt.eps_test = c_.eps_test;
-  opt.eps = ru::num::to_double(c_.f, c_.eps_bits);
-  const auto r = c_.unit == Unit::Mt ? ru::units::ray_tri_mt(V(0), V(3), V(6), V(9), V(12), S(15), S(16), opt)
-                 : recip ? ru::units::ray_tri_robust_recip(V(0), V(3), V(6), V(9), V(12), S(15), S(16), opt)
-                         : ru::units::ray_tri_robust(V(0), V(3), V(6), V(9), V(12), S(15), S(16), opt);
-  out.v[0] = r.hit;
-  out.v[1] = static_cast<uint64_t>(r.why);
-  out.v[2] = r.t.bits;
-  out.v[3] = r.beta.bits;
-  out.v[4] = r.gamma.bits;
-  if (c_.vol_out) {
-    out.v[5] = r.V.bits;
-    out.v[6] = r.Va.bits;
-    out.v[7] = r.V0.bits;
-    out.v[8] = r.V1.bits;
-    out.v[9] = r.V2.bits;
-  }
-}
-
-std::string RayAdapter::decimal(const FieldInfo& fi, uint64_t v) const {
-  if (fi.kind == FieldKind::Float) return fp_text(c_.f, v);
-  return UnitAdapter::decimal(fi, v);
+  synth::UnitConfig model = ray_unit_config(mc);
+  model.stages = rtl.stages;
+  auto ad = std::make_unique<RegistryAdapter>(synth::find_unit(unit), rtl, model);
+  if (m == Mutant::InputLsb) ad->set_model_input_hook([](Record& in) { in.v[4] ^= 1; });  // rdir.y / d.y
+  if (m != Mutant::None) ad->set_note(std::string("[planted: ") + mutant_name(m) + "]");
+  return ad;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -256,7 +138,7 @@ struct Ctx {
     t.cfg = cfg;
     t.name = suite + "." + test;
     const RayConfig rc = c;
-    t.adapter = [rc] { return std::make_unique<RayAdapter>(rc); };
+    t.adapter = [rc] { return ray_adapter(rc); };
     t.opt = make_options(*cfg, t.name);
     t.opt.stages = c.stages;  // the unit's latency is Stages
     t.opt.format = c.f.name() + " " + ru::num::round_name(c.f.round);
@@ -293,7 +175,7 @@ void box_coverage(const RayConfig& c, const Record& in, Mix& m) {
   const Format& f = c.f;
   bool nanb = false, fix = false;
   for (int k = 0; k < 3; ++k) {
-    const uint64_t o = in.v[k], inv = in.v[3 + k], lo = in.v[6 + k], hi = in.v[9 + k];
+    const uint64_t o = in.v[k], inv = in.v[3 + k], lo = in.v[8 + k], hi = in.v[11 + k];  // registry order
     const bool neg = (inv & f.sign_bit()) != 0;
     const uint64_t nearp = neg ? hi : lo, farp = neg ? lo : hi;
     for (int side = 0; side < 2; ++side) {
@@ -329,14 +211,14 @@ void box_coverage(const RayConfig& c, const Record& in, Mix& m) {
 }
 
 Mix model_mix(const Ctx& x, const std::vector<Record>& recs) {
-  RayAdapter ad(x.c);
+  auto ad = ray_adapter(x.c);
   RayConfig cv = x.c;
   cv.vol_out = true;
-  RayAdapter advol(cv);  // volumes for the coverage count
+  auto advol = ray_adapter(cv);  // volumes for the coverage count
   Mix m;
   Record out;
   for (const Record& r : recs) {
-    ad.model(r, out);
+    ad->model(r, out);
     ++m.n;
     m.hits += out.v[0] & 1;
     if (x.box()) {
@@ -344,7 +226,7 @@ Mix model_mix(const Ctx& x, const std::vector<Record>& recs) {
       continue;
     }
     if (out.v[1] < 5) ++m.why[out.v[1]];
-    advol.model(r, out);
+    advol->model(r, out);
     const uint64_t mag = ~x.c.f.sign_bit() & x.c.f.mask();
     const bool zv = (out.v[8] & mag) == 0 || (out.v[9] & mag) == 0 || (x.c.unit == Unit::Robust && (out.v[7] & mag) == 0);
     m.zero_vols += zv;
@@ -429,15 +311,15 @@ void add_mutants(const Ctx& x) {
       o.max_errors = 1;
       {
         auto dut = x.cfg->make(DutOptions{seed, false});
-        RayAdapter ad(x.c);
+        auto ad = ray_adapter(x.c);
         ArraySource src(&recs);
-        const RunStats st = run(*dut, ad, src, o);
+        const RunStats st = run(*dut, *ad, src, o);
         ASSERT_TRUE(st.ok()) << "control run failed:\n" << st.errors.front().report;
       }
       auto dut = x.cfg->make(DutOptions{seed, false});
-      RayAdapter ad(x.c, m);
+      auto ad = ray_adapter(x.c, m);
       ArraySource src(&recs);
-      const RunStats st = run(*dut, ad, src, o);
+      const RunStats st = run(*dut, *ad, src, o);
       ASSERT_FALSE(st.errors.empty()) << "planted error '" << mutant_name(m) << "' went unnoticed on " << recs.size()
                                       << " vectors";
       EXPECT_EQ(st.errors[0].kind, Mismatch::Data);
@@ -457,9 +339,9 @@ void add_mutants(const Ctx& x) {
       o.quiet = true;
       o.inject.latency_delta = delta;
       auto dut = x.cfg->make(DutOptions{seed, false});
-      RayAdapter ad(x.c);
+      auto ad = ray_adapter(x.c);
       ArraySource src(&recs);
-      const RunStats st = run(*dut, ad, src, o);
+      const RunStats st = run(*dut, *ad, src, o);
       ASSERT_FALSE(st.errors.empty()) << "a one-cycle latency error went unnoticed";
       EXPECT_EQ(st.errors[0].kind, delta > 0 ? Mismatch::UnexpectedValid : Mismatch::MissingValid);
     });

@@ -13,18 +13,32 @@ using ru::num::Format;
 using ru::num::Op;
 
 const FpUnitSpec* fp_unit_spec(const std::string& unit) {
-  static const FpUnitSpec specs[] = {
-      {"fp_add", {{"add", Op::Add}, {"sub", Op::Sub}}, 1, false},
-      {"fp_mul", {{"mul", Op::Mul}}, 0, false},
-      {"fp_div", {{"div", Op::Div}}, 0, false},
-      {"fp_sqrt", {{"sqrt", Op::Sqrt}}, 0, false, true},
-      {"fp_fma", {{"fma", Op::Fma, 0}, {"fms", Op::Fma, 1}, {"fnms", Op::Fma, 2}, {"fnma", Op::Fma, 3}}, 2, false,
-       false, true},
-      {"fp_cmp", {{"lt", Op::Lt}, {"le", Op::Le}, {"eq", Op::Eq}, {"min", Op::Min}, {"max", Op::Max}}, 3, false},
-      {"fp_dot3", {{"dot3", Op::Fma}}, 0, true},
-  };
+  // Built once from the registry: every unit whose name starts with "fp_".
+  static const std::vector<FpUnitSpec> specs = [] {
+    std::vector<FpUnitSpec> v;
+    for (const synth::UnitSpec& u : synth::units()) {
+      if (u.name.rfind("fp_", 0) != 0) continue;
+      FpUnitSpec s;
+      s.unit = &u;
+      synth::UnitConfig c;
+      c.fmt = Format::parse("e8m23");
+      const auto fields = synth::fields_for(u, c, synth::PortDir::In);
+      s.operands = 0;
+      for (size_t i = 0; i < fields.size(); ++i) {
+        if (fields[i].kind == synth::FieldKind::Float) ++s.operands;
+        if (fields[i].port == "op_i") {
+          s.op_field = static_cast<int>(i);
+          s.ops = fields[i].enum_names;
+        }
+      }
+      s.dot3 = s.operands == 6;
+      if (s.op_field < 0) s.ops = {u.name.substr(3)};
+      v.push_back(std::move(s));
+    }
+    return v;
+  }();
   for (const auto& s : specs)
-    if (unit == s.unit) return &s;
+    if (unit == s.unit->name) return &s;
   return nullptr;
 }
 
@@ -44,86 +58,17 @@ std::string fp_format_name(const Format& f) { return f.name() + " " + ru::num::r
 
 // ---------------------------------------------------------------------------------------------
 
+namespace {
+synth::UnitConfig fp_config(const Format& f, int stages) {
+  synth::UnitConfig c;
+  c.fmt = f;
+  c.stages = stages;
+  return c;
+}
+}  // namespace
+
 FpAdapter::FpAdapter(const FpUnitSpec& spec, const Format& f, int stages)
-    : spec_(spec), f_(f), stages_(stages), W_(f.width()) {
-  FieldInfo op{spec.op_bits ? "op_i" : "op", spec.op_bits ? spec.op_bits : 1, FieldKind::Enum, {}};
-  for (const auto& o : spec.ops) op.enum_names.push_back(o.name);
-  ins_.push_back(op);
-  if (spec.dot3) {
-    for (const char* n : {"a0", "a1", "a2", "b0", "b1", "b2"}) ins_.push_back({n, W_, FieldKind::Float, {}});
-  } else {
-    ins_.push_back({"a_i", W_, FieldKind::Float, {}});
-    if (!spec.unary) ins_.push_back({"b_i", W_, FieldKind::Float, {}});
-    if (spec.ternary) ins_.push_back({"c_i", W_, FieldKind::Float, {}});
-  }
-  outs_.push_back({"y_o", W_, FieldKind::Float, {}});
-  outs_.push_back({"flags_o", 5, FieldKind::Flags, {}});
-}
-
-std::string FpAdapter::describe() const {
-  return std::string(spec_.unit) + " " + fp_format_name(f_);
-}
-
-void FpAdapter::bind(const PortMap& pm) {
-  if (spec_.op_bits) {
-    op_ = pm.get("op_i");
-    if (op_.bits() != spec_.op_bits) throw std::runtime_error(std::string(spec_.unit) + ": op_i width mismatch");
-  }
-  a_ = pm.get("a_i");
-  if (!spec_.unary) b_ = pm.get("b_i");
-  if (spec_.ternary) c_ = pm.get("c_i");
-  y_ = pm.get("y_o");
-  flags_ = pm.get("flags_o");
-  const int wa = spec_.dot3 ? 3 * W_ : W_;
-  if (a_.bits() != wa || (!spec_.unary && b_.bits() != wa) || (spec_.ternary && c_.bits() != W_) ||
-      y_.bits() != W_ || flags_.bits() != 5)
-    throw std::runtime_error(describe() + ": port widths do not match the format");
-}
-
-static void pack3(const uint64_t* x, int W, uint64_t* w) {
-  w[0] = w[1] = w[2] = 0;
-  for (int i = 0; i < 3; ++i) {
-    const int pos = i * W, wi = pos / 64, sh = pos % 64;
-    w[wi] |= x[i] << sh;
-    if (sh && sh + W > 64) w[wi + 1] |= x[i] >> (64 - sh);
-  }
-}
-
-void FpAdapter::drive(const Record& in) {
-  if (spec_.op_bits) op_.set(in.v[0]);
-  if (spec_.dot3) {
-    uint64_t w[3];
-    pack3(&in.v[1], W_, w);
-    a_.set_words(w, 3);
-    pack3(&in.v[4], W_, w);
-    b_.set_words(w, 3);
-  } else {
-    a_.set(in.v[1]);
-    if (!spec_.unary) b_.set(in.v[2]);
-    if (spec_.ternary) c_.set(in.v[3]);
-  }
-}
-
-void FpAdapter::read(Record& out) {
-  out.v[0] = y_.get();
-  out.v[1] = flags_.get();
-}
-
-void FpAdapter::model(const Record& in, Record& out) {
-  ru::num::Result r;
-  if (spec_.dot3) {
-    r = ru::num::dot3(f_, &in.v[1], &in.v[4]);
-  } else if (spec_.ternary) {  // fp_fma: op_i flips the sign of a (the product) and/or of c
-    const FpOpDesc& o = spec_.ops[in.v[0]];
-    const uint64_t a = (o.neg & 2) ? ru::num::neg(f_, in.v[1]) : in.v[1];
-    const uint64_t c = (o.neg & 1) ? ru::num::neg(f_, in.v[3]) : in.v[3];
-    r = ru::num::apply(f_, o.op, a, in.v[2], c);
-  } else {
-    r = ru::num::apply(f_, spec_.ops[in.v[0]].op, in.v[1], spec_.unary ? 0 : in.v[2]);
-  }
-  out.v[0] = r.bits;
-  out.v[1] = r.flags;
-}
+    : RegistryAdapter(*spec.unit, fp_config(f, stages)), spec_(spec) {}
 
 std::string fp_text(const Format& f0, uint64_t v) {
   Format f = f0;
@@ -147,30 +92,22 @@ std::string fp_text(const Format& f0, uint64_t v) {
   return s;
 }
 
-std::string FpAdapter::decimal(const FieldInfo& fi, uint64_t v) const {
-  switch (fi.kind) {
-    case FieldKind::Float: return fp_text(f_, v);
-    case FieldKind::Flags: return ru::num::flags_letters(static_cast<uint8_t>(v));
-    default: return UnitAdapter::decimal(fi, v);
-  }
-}
-
 void FpAdapter::parse_inputs(const std::vector<std::string>& tok, Record& in) const {
   if (tok.empty()) throw std::runtime_error("empty vector");
   in = Record{};
   int code = -1;
   for (size_t i = 0; i < spec_.ops.size(); ++i)
-    if (tok[0] == spec_.ops[i].name) code = static_cast<int>(i);
+    if (tok[0] == spec_.ops[i]) code = static_cast<int>(i);
   if (code < 0) {
     std::string names;
-    for (const auto& o : spec_.ops) names += std::string(names.empty() ? "" : ", ") + o.name;
-    throw std::runtime_error("unknown op '" + tok[0] + "' for " + spec_.unit + " (accepted: " + names + ")");
+    for (const auto& o : spec_.ops) names += (names.empty() ? "" : ", ") + o;
+    throw std::runtime_error("unknown op '" + tok[0] + "' for " + spec_.unit->name + " (accepted: " + names + ")");
   }
-  const size_t n = static_cast<size_t>(spec_.operands());
+  const size_t n = static_cast<size_t>(spec_.operands);
   if (tok.size() != n + 1)
     throw std::runtime_error(tok[0] + " takes " + std::to_string(n) + " operands, got " + std::to_string(tok.size() - 1));
-  in.v[0] = static_cast<uint64_t>(code);
-  for (size_t i = 0; i < n; ++i) in.v[1 + i] = ru::num::parse_operand(f_, tok[1 + i]);
+  if (spec_.op_field >= 0) in.v[spec_.op_field] = static_cast<uint64_t>(code);
+  for (size_t i = 0; i < n; ++i) in.v[i] = ru::num::parse_operand(format(), tok[1 + i]);
 }
 
 void FpAdapter::parse_outputs(const std::vector<std::string>& tok, Record& out, uint32_t& mask) const {
@@ -178,7 +115,7 @@ void FpAdapter::parse_outputs(const std::vector<std::string>& tok, Record& out, 
   out = Record{};
   mask = 0;
   if (tok[0] != "?") {
-    out.v[0] = ru::num::parse_operand(f_, tok[0]);
+    out.v[0] = ru::num::parse_operand(format(), tok[0]);
     mask |= 1;
   }
   if (tok[1] != "?") {
@@ -205,15 +142,21 @@ void FpAdapter::parse_outputs(const std::vector<std::string>& tok, Record& out, 
 
 namespace {
 
+// Records in the registry layout: operands at 0..operands-1, the op code at op_field (if any).
+void put_op(const FpUnitSpec& s, Record& r, uint64_t op) {
+  if (s.op_field >= 0) r.v[s.op_field] = op;
+}
+
 class SpecialBinary final : public VectorSource {
  public:
   SpecialBinary(const FpUnitSpec& s, const Format& f)
-      : nops_(s.ops.size()), unary_(s.unary), sv_(ru::num::special_values(f)) {}
+      : s_(s), nops_(s.ops.size()), unary_(s.unary()), sv_(ru::num::special_values(f)) {}
   bool next(Record& r) override {
     if (i_ >= sv_.size()) return false;
-    r.v[0] = op_;
-    r.v[1] = sv_[i_];
-    r.v[2] = unary_ ? 0 : sv_[j_];
+    r = Record{};
+    put_op(s_, r, op_);
+    r.v[0] = sv_[i_];
+    if (!unary_) r.v[1] = sv_[j_];
     if (++op_ == nops_) {
       op_ = 0;
       if (unary_ || ++j_ == sv_.size()) j_ = 0, ++i_;
@@ -223,6 +166,7 @@ class SpecialBinary final : public VectorSource {
   uint64_t total() const override { return nops_ * sv_.size() * (unary_ ? 1 : sv_.size()); }
 
  private:
+  const FpUnitSpec& s_;
   size_t nops_;
   bool unary_;
   std::vector<uint64_t> sv_;
@@ -231,13 +175,14 @@ class SpecialBinary final : public VectorSource {
 
 class SpecialTernary final : public VectorSource {
  public:
-  SpecialTernary(const FpUnitSpec& s, const Format& f) : nops_(s.ops.size()), sv_(ru::num::special_values(f)) {}
+  SpecialTernary(const FpUnitSpec& s, const Format& f) : s_(s), nops_(s.ops.size()), sv_(ru::num::special_values(f)) {}
   bool next(Record& r) override {
     if (i_ >= sv_.size()) return false;
-    r.v[0] = n_++ % nops_;
-    r.v[1] = sv_[i_];
-    r.v[2] = sv_[j_];
-    r.v[3] = sv_[k_];
+    r = Record{};
+    put_op(s_, r, n_++ % nops_);
+    r.v[0] = sv_[i_];
+    r.v[1] = sv_[j_];
+    r.v[2] = sv_[k_];
     if (++k_ == sv_.size()) {
       k_ = 0;
       if (++j_ == sv_.size()) j_ = 0, ++i_;
@@ -247,6 +192,7 @@ class SpecialTernary final : public VectorSource {
   uint64_t total() const override { return sv_.size() * sv_.size() * sv_.size(); }
 
  private:
+  const FpUnitSpec& s_;
   size_t nops_;
   std::vector<uint64_t> sv_;
   size_t i_ = 0, j_ = 0, k_ = 0, n_ = 0;
@@ -258,13 +204,13 @@ class SpecialDot3 final : public VectorSource {
   bool next(Record& r) override {
     if (i_ >= sv_.size()) return false;
     const size_t k = (i_ + j_) % 3;
-    r.v[0] = 0;
+    r = Record{};
     for (int p = 0; p < 3; ++p) {
-      r.v[1 + p] = pick();
-      r.v[4 + p] = pick();
+      r.v[p] = pick();
+      r.v[3 + p] = pick();
     }
-    r.v[1 + k] = sv_[i_];
-    r.v[4 + k] = sv_[j_];
+    r.v[k] = sv_[i_];
+    r.v[3 + k] = sv_[j_];
     if (++j_ == sv_.size()) j_ = 0, ++i_;
     return true;
   }
@@ -278,54 +224,17 @@ class SpecialDot3 final : public VectorSource {
   size_t i_ = 0, j_ = 0;
 };
 
-class RandomFp final : public VectorSource {
- public:
-  RandomFp(const FpUnitSpec& s, const Format& f, uint64_t seed, uint64_t n)
-      : s_(s), f_(f), gen_(f, seed), rng_(seed ^ 0xabcdef), n_(n) {}
-  bool next(Record& r) override {
-    if (i_ >= n_) return false;
-    ++i_;
-    if (s_.dot3) {
-      r.v[0] = 0;
-      gen_.triple(r.v[1], r.v[2], r.v[3]);
-      gen_.triple(r.v[4], r.v[5], r.v[6]);
-      if (rng_.below(4) == 0) {  // a1*b1 = -(a0*b0) exactly: the sum cancels to the third product
-        r.v[2] = r.v[1];
-        r.v[5] = ru::num::neg(f_, r.v[4]);
-      }
-    } else if (s_.ternary) {  // fma: products near ties, c ~ -a*b, exponent differences, specials
-      r.v[0] = rng_.below(s_.ops.size());
-      gen_.triple(r.v[1], r.v[2], r.v[3]);
-    } else if (s_.unary) {  // sqrt: exact squares and squares of rounding midpoints, or anything
-      r.v[0] = rng_.below(s_.ops.size());
-      r.v[1] = rng_.below(2) ? gen_.sqrt_case() : gen_.next();
-      r.v[2] = 0;
-    } else {
-      r.v[0] = rng_.below(s_.ops.size());
-      gen_.pair(r.v[1], r.v[2]);
-    }
-    return true;
-  }
-  uint64_t total() const override { return n_; }
-
- private:
-  const FpUnitSpec& s_;
-  Format f_;
-  ru::num::OperandGen gen_;
-  Rng rng_;
-  uint64_t n_, i_ = 0;
-};
-
 class ExhaustiveBinary final : public VectorSource {
  public:
   ExhaustiveBinary(const FpUnitSpec& s, const Format& f)
-      : nops_(s.ops.size()), n_(1ull << f.width()), unary_(s.unary), ternary_(s.ternary) {}
+      : s_(s), nops_(s.ops.size()), n_(1ull << f.width()), unary_(s.unary()), ternary_(s.ternary()) {}
   bool next(Record& r) override {
     if (a_ >= n_) return false;
-    r.v[0] = op_;
-    r.v[1] = a_;
-    r.v[2] = b_;
-    r.v[3] = c_;
+    r = Record{};
+    put_op(s_, r, op_);
+    r.v[0] = a_;
+    if (!unary_) r.v[1] = b_;
+    if (ternary_) r.v[2] = c_;
     if (++op_ == nops_) {
       op_ = 0;
       if (!ternary_ || ++c_ == n_) {
@@ -338,6 +247,7 @@ class ExhaustiveBinary final : public VectorSource {
   uint64_t total() const override { return nops_ * n_ * (unary_ ? 1 : n_) * (ternary_ ? n_ : 1); }
 
  private:
+  const FpUnitSpec& s_;
   uint64_t nops_, n_;
   bool unary_, ternary_;
   uint64_t a_ = 0, b_ = 0, c_ = 0, op_ = 0;
@@ -347,21 +257,23 @@ class ExhaustiveBinary final : public VectorSource {
 
 std::unique_ptr<VectorSource> fp_special_source(const FpUnitSpec& s, const Format& f, uint64_t seed) {
   if (s.dot3) return std::make_unique<SpecialDot3>(f, seed);
-  if (s.ternary) return std::make_unique<SpecialTernary>(s, f);
+  if (s.ternary()) return std::make_unique<SpecialTernary>(s, f);
   return std::make_unique<SpecialBinary>(s, f);
 }
 
 std::unique_ptr<VectorSource> fp_random_source(const FpUnitSpec& s, const Format& f, uint64_t seed, uint64_t n) {
-  return std::make_unique<RandomFp>(s, f, seed, n);
+  synth::UnitConfig c;
+  c.fmt = f;
+  return registry_random_source(*s.unit, c, seed, n);
 }
 
 uint64_t fp_exhaustive_count(const FpUnitSpec& s, const Format& f) {
-  return s.ops.size() << ((s.unary ? 1 : s.ternary ? 3 : 2) * f.width());
+  return s.ops.size() << ((s.unary() ? 1 : s.ternary() ? 3 : 2) * f.width());
 }
 
 std::unique_ptr<VectorSource> fp_exhaustive_source(const FpUnitSpec& s, const Format& f) {
   if (s.dot3) throw std::invalid_argument("fp_dot3 has six operands: no exhaustive source");
-  const int max_w = s.unary ? 24 : s.ternary ? 8 : 12;
+  const int max_w = s.unary() ? 24 : s.ternary() ? 8 : 12;
   if (f.width() > max_w)
     throw std::invalid_argument(f.name() + " is too wide for an exhaustive run (at most " + std::to_string(max_w) +
                                 " bits)");

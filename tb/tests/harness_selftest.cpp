@@ -213,11 +213,12 @@ TEST(TbVectorFile, ParsesOperandsOutputsAndDirectives) {
   EXPECT_EQ(vf.format, "e8m23");
   EXPECT_EQ(vf.round, "rne");
   ASSERT_EQ(vf.vectors.size(), 3u);
-  EXPECT_EQ(vf.vectors[0].in.v[1], 0x3f800000u);
+  // records in the registry's layout: a_i, b_i, op_i
+  EXPECT_EQ(vf.vectors[0].in.v[0], 0x3f800000u);
   EXPECT_EQ(vf.vectors[0].out.v[0], 0x40400000u);
   EXPECT_EQ(vf.vectors[0].out_mask, 3u);
-  EXPECT_EQ(vf.vectors[1].in.v[0], 1u);  // sub
-  EXPECT_EQ(vf.vectors[1].in.v[2], 0x3fc00000u);
+  EXPECT_EQ(vf.vectors[1].in.v[2], 1u);  // sub
+  EXPECT_EQ(vf.vectors[1].in.v[1], 0x3fc00000u);
   EXPECT_EQ(vf.vectors[1].out_mask, 0u);
   EXPECT_EQ(vf.vectors[2].out_mask, 2u);
   EXPECT_EQ(vf.vectors[2].out.v[1], static_cast<uint64_t>(ru::num::kInvalid | ru::num::kInexact));

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "rayunits/synth/process.hpp"
+#include "unit_models.hpp"
 
 namespace ru::synth {
 namespace fs = std::filesystem;
@@ -32,22 +33,51 @@ std::vector<ParamSpec> fp_params() {
   };
 }
 
-PortSpec in(const char* name, const char* width, const char* doc) {
-  return {name, PortDir::In, PortRole::Data, width, doc};
+PortSpec port(const char* name, PortDir dir, PortRole role, const char* width, const char* doc,
+              FieldKind kind = FieldKind::Bits) {
+  PortSpec p;
+  p.name = name;
+  p.dir = dir;
+  p.role = role;
+  p.width = width;
+  p.doc = doc;
+  p.kind = kind;
+  return p;
 }
-PortSpec out(const char* name, const char* width, const char* doc) {
-  return {name, PortDir::Out, PortRole::Data, width, doc};
+PortSpec in(const char* name, const char* width, const char* doc, FieldKind kind = FieldKind::Bits) {
+  return port(name, PortDir::In, PortRole::Data, width, doc, kind);
+}
+PortSpec out(const char* name, const char* width, const char* doc, FieldKind kind = FieldKind::Bits) {
+  return port(name, PortDir::Out, PortRole::Data, width, doc, kind);
+}
+PortSpec fin(const char* name, const char* width, const char* doc) { return in(name, width, doc, FieldKind::Float); }
+PortSpec fout(const char* name, const char* width, const char* doc) { return out(name, width, doc, FieldKind::Float); }
+// A packed vector of `names.size()` format values, element 0 in the low bits.
+PortSpec fvec(PortSpec p, std::vector<std::string> names) {
+  p.kind = FieldKind::Float;
+  p.elems = static_cast<int>(names.size());
+  p.elem_names = std::move(names);
+  return p;
+}
+// A 3-vector {z, y, x} of format values named <base>.x, .y, .z.
+PortSpec vec3(const char* name, const std::string& base, const char* doc) {
+  return fvec(in(name, "3*W", doc), {base + ".x", base + ".y", base + ".z"});
+}
+PortSpec enum_in(const char* name, const char* width, const char* doc, std::vector<std::string> names) {
+  PortSpec p = in(name, width, doc, FieldKind::Enum);
+  p.enum_names = std::move(names);
+  return p;
 }
 
 std::vector<PortSpec> control_ports() {
   return {
-      {"clk_i", PortDir::In, PortRole::Clock, "1", "clock, rising edge"},
-      {"rst_ni", PortDir::In, PortRole::Reset, "1", "reset, active low: drops every operation in flight"},
-      {"in_valid_i", PortDir::In, PortRole::Valid, "1", "operands valid this cycle"},
+      port("clk_i", PortDir::In, PortRole::Clock, "1", "clock, rising edge"),
+      port("rst_ni", PortDir::In, PortRole::Reset, "1", "reset, active low: drops every operation in flight"),
+      port("in_valid_i", PortDir::In, PortRole::Valid, "1", "operands valid this cycle"),
   };
 }
 PortSpec out_valid() {
-  return {"out_valid_o", PortDir::Out, PortRole::Valid, "1", "result valid (in_valid_i delayed by the latency)"};
+  return port("out_valid_o", PortDir::Out, PortRole::Valid, "1", "result valid (in_valid_i delayed by the latency)");
 }
 
 // The fixed interface: clk_i, rst_ni, in_valid_i, operands, [op_i], out_valid_o, y_o, flags_o.
@@ -55,12 +85,19 @@ std::vector<PortSpec> fp_ports(std::vector<PortSpec> operands) {
   std::vector<PortSpec> p = control_ports();
   for (auto& o : operands) p.push_back(std::move(o));
   p.push_back(out_valid());
-  p.push_back(out("y_o", "W", "result bit pattern"));
-  p.push_back(out("flags_o", "5", "{invalid, divzero, overflow, underflow, inexact}"));
+  p.push_back(fout("y_o", "W", "result bit pattern"));
+  p.push_back(out("flags_o", "5", "{invalid, divzero, overflow, underflow, inexact}", FieldKind::Flags));
   return p;
 }
 
-UnitSpec fp_unit(const char* name, const char* summary, std::vector<PortSpec> operands, const char* max_stages) {
+using models::FpOp;
+using models::FpShape;
+
+// A floating-point unit: operands (and op_i, whose enum names are the operations), its golden
+// model (ru::num: one op per op_i code) and its test matrices.
+UnitSpec fp_unit(const char* name, const char* summary, std::vector<PortSpec> operands, const char* max_stages,
+                 FpShape shape, std::vector<FpOp> ops, std::vector<std::string> tests,
+                 std::vector<std::string> long_tests) {
   UnitSpec s;
   s.name = name;
   s.top = std::string("ru_") + name;
@@ -70,7 +107,29 @@ UnitSpec fp_unit(const char* name, const char* summary, std::vector<PortSpec> op
   s.ports = fp_ports(std::move(operands));
   s.max_stages_expr = max_stages;
   s.seg_weights_param = true;
+  s.golden = [shape, ops](const UnitConfig& c) { return models::fp_golden(c, shape, ops); };
+  const int nops = static_cast<int>(ops.size());
+  s.random_inputs = [shape, nops](const UnitConfig& c, uint64_t seed) { return models::fp_inputs(c, seed, shape, nops); };
+  s.tests = std::move(tests);
+  s.long_tests = std::move(long_tests);
   return s;
+}
+
+// The fast matrix of the two-operand FP units (tb/README.md): three formats at Stages 0, 1 and
+// the maximum, e8m23 one past it (the extra output register) with the planted-error tests, two
+// exhaustive small formats.
+std::vector<std::string> fp_fast(const char* ex1, const char* ex2) {
+  return {"e5m10:s0", "e5m10:s1", "e5m10:smax", "e7m16:s0", "e7m16:s1",  "e7m16:smax",
+          "e8m23:s0", "e8m23:s1", "e8m23:smax+1:selftest",  ex1, ex2};
+}
+// The long matrix of add, mul, div, cmp: double precision, every rounding mode, flush to zero,
+// exhaustive small formats in every rounding mode; `mid` a mid-pipeline Stages.
+std::vector<std::string> fp_long(const std::string& mid) {
+  const std::string m = ":s" + mid;
+  return {"e11m52:s0", "e11m52:s2", "e11m52" + m, "e8m23:s2", "e8m23" + m + ":rtz", "e8m23" + m + ":rdn",
+          "e8m23" + m + ":rup", "e8m23-ftz:s2", "e8m23-ftz:s1:rdn", "e5m10-ftz:s1:rup", "e11m52-ftz" + m + ":rtz",
+          "e4m3:s1:rtz:exhaustive", "e4m3:s1:rdn:exhaustive", "e4m3:s1:rup:exhaustive", "e4m3-ftz:s0:exhaustive",
+          "e5m2-ftz:s2:rup:exhaustive"};
 }
 
 // Maximum useful Stages: the number of internal cut positions of the unit's register chain
@@ -82,29 +141,54 @@ UnitSpec fp_unit(const char* name, const char* summary, std::vector<PortSpec> op
 // (The registry before this one counted one add level too many for both triangle units.) Checked against each top module's MaxUsefulStages
 // (check_against_rtl, ctest Registry.MaxUsefulStagesMatchRtl).
 std::vector<UnitSpec> make_units() {
+  using num::Op;
   std::vector<UnitSpec> u;
   u.push_back(fp_unit("fp_add", "floating-point adder/subtracter (op_i 0 = a+b, 1 = a-b)",
-                      {in("a_i", "W", "operand a"), in("b_i", "W", "operand b"), in("op_i", "1", "0 = add, 1 = subtract")},
-                      "5"));
-  u.push_back(fp_unit("fp_mul", "floating-point multiplier", {in("a_i", "W", "operand a"), in("b_i", "W", "operand b")},
-                      "L+4"));
+                      {fin("a_i", "W", "operand a"), fin("b_i", "W", "operand b"),
+                       enum_in("op_i", "1", "0 = add, 1 = subtract", {"add", "sub"})},
+                      "5", FpShape::Binary, {{Op::Add}, {Op::Sub}}, fp_fast("e4m3:s1:exhaustive", "e5m2:s2:exhaustive"),
+                      fp_long("3")));
+  u.push_back(fp_unit("fp_mul", "floating-point multiplier", {fin("a_i", "W", "operand a"), fin("b_i", "W", "operand b")},
+                      "L+4", FpShape::Binary, {{Op::Mul}}, fp_fast("e4m3:s1:exhaustive", "e5m2:s3:exhaustive"),
+                      fp_long("3")));
   u.push_back(fp_unit("fp_div", "floating-point divider (correctly rounded, pipelined digit recurrence)",
-                      {in("a_i", "W", "dividend"), in("b_i", "W", "divisor")}, "M+5"));
+                      {fin("a_i", "W", "dividend"), fin("b_i", "W", "divisor")}, "M+5", FpShape::Binary, {{Op::Div}},
+                      fp_fast("e4m3:s2:exhaustive", "e5m2:s6:exhaustive"), fp_long("7")));
   u.push_back(fp_unit("fp_sqrt", "floating-point square root (correctly rounded, pipelined digit recurrence)",
-                      {in("a_i", "W", "radicand")}, "M+3"));
+                      {fin("a_i", "W", "radicand")}, "M+3", FpShape::Unary, {{Op::Sqrt}},
+                      {"e4m3:s0:exhaustive", "e5m2:s2:exhaustive", "e2m1:s1:exhaustive", "e4m3-ftz:s0:exhaustive",
+                       "e5m10:s1:exhaustive", "e5m10-ftz:s1:rdn:exhaustive", "e8m23:s0", "e8m23:smax+1:selftest"},
+                      {"e11m52:s0", "e11m52:s7", "e11m52:smax", "e7m16:s0", "e7m16:s1", "e7m16:smax",
+                       "e5m10:smax:exhaustive", "e8m23:s1", "e8m23:s7:rtz", "e8m23:s7:rdn", "e8m23:s7:rup",
+                       "e8m23-ftz:s2", "e8m23-ftz:s1:rdn", "e11m52-ftz:s7:rtz", "e5m10:s2:rup:exhaustive",
+                       "e4m3:s1:rtz:exhaustive", "e4m3:s1:rdn:exhaustive", "e4m3:s1:rup:exhaustive",
+                       "e2m1:s0:rtz:exhaustive", "e2m1:s0:rup:exhaustive", "e2m1-ftz:s0:exhaustive",
+                       "e5m2-ftz:s2:rup:exhaustive"}));
   u.push_back(fp_unit("fp_fma",
                       "fused multiply-add, one rounding (op_i 0 a*b+c, 1 a*b-c, 2 -(a*b)+c, 3 -(a*b)-c)",
-                      {in("a_i", "W", "multiplicand a"), in("b_i", "W", "multiplier b"), in("c_i", "W", "addend c"),
-                       in("op_i", "2", "bit 0 negates c, bit 1 negates a*b")},
-                      "L+6"));
+                      {fin("a_i", "W", "multiplicand a"), fin("b_i", "W", "multiplier b"), fin("c_i", "W", "addend c"),
+                       enum_in("op_i", "2", "bit 0 negates c, bit 1 negates a*b", {"fma", "fms", "fnms", "fnma"})},
+                      "L+6", FpShape::Ternary, {{Op::Fma, 0}, {Op::Fma, 1}, {Op::Fma, 2}, {Op::Fma, 3}},
+                      {"e3m2:s0:exhaustive", "e2m3:s2:exhaustive", "e3m2-ftz:s1:exhaustive", "e2m1:s1:exhaustive",
+                       "e5m10:s0", "e5m10:smax+1", "e8m23:s0", "e8m23:smax+1:selftest"},
+                      {"e11m52:s0", "e11m52:s5", "e11m52:smax", "e7m16:s0", "e7m16:s4", "e7m16:smax", "e5m10:s3",
+                       "e4m3:s2", "e8m23:s5:rtz", "e8m23:s5:rdn", "e8m23:s5:rup", "e8m23-ftz:s2", "e8m23-ftz:s1:rdn",
+                       "e5m10-ftz:s1:rup", "e11m52-ftz:s5:rtz", "e3m2:s1:rtz:exhaustive", "e3m2:s1:rdn:exhaustive",
+                       "e3m2:s1:rup:exhaustive", "e2m3:s0:rtz:exhaustive", "e2m3-ftz:s3:rdn:exhaustive",
+                       "e3m2-ftz:s2:rup:exhaustive"}));
   u.push_back(fp_unit("fp_cmp", "floating-point compare/min/max (op_i 0 lt, 1 le, 2 eq, 3 min, 4 max)",
-                      {in("a_i", "W", "operand a"), in("b_i", "W", "operand b"),
-                       in("op_i", "3", "0 lt, 1 le, 2 eq, 3 min, 4 max")},
-                      "2"));
+                      {fin("a_i", "W", "operand a"), fin("b_i", "W", "operand b"),
+                       enum_in("op_i", "3", "0 lt, 1 le, 2 eq, 3 min, 4 max", {"lt", "le", "eq", "min", "max"})},
+                      "2", FpShape::Binary, {{Op::Lt}, {Op::Le}, {Op::Eq}, {Op::Min}, {Op::Max}},
+                      fp_fast("e4m3:s1:exhaustive", "e5m2:s2:exhaustive"), fp_long("3")));
   u.push_back(fp_unit("fp_dot3", "3-term dot product, three products and two sums each rounded",
-                      {in("a_i", "3*W", "{a2, a1, a0}, a0 in the low bits"),
-                       in("b_i", "3*W", "{b2, b1, b0}, b0 in the low bits")},
-                      "L+16"));
+                      {fvec(in("a_i", "3*W", "{a2, a1, a0}, a0 in the low bits"), {"a0", "a1", "a2"}),
+                       fvec(in("b_i", "3*W", "{b2, b1, b0}, b0 in the low bits"), {"b0", "b1", "b2"})},
+                      "L+16", FpShape::Dot3, {{Op::Fma}},
+                      {"e5m10:s0", "e5m10:s1", "e5m10:s6", "e7m16:s0", "e7m16:s1", "e7m16:smax", "e8m23:s0",
+                       "e8m23:s1", "e8m23:smax+1:selftest"},
+                      {"e11m52:s0", "e11m52:s4", "e8m23:s3:rtz", "e8m23:s3:rdn", "e8m23:s3:rup", "e8m23-ftz:s2",
+                       "e5m10-ftz:s2:rup", "e4m3:s2", "e5m2:s1"}));
   u.back().seg_weights_param = false;  // its FP instances get their cuts from its level chain
   {
     UnitSpec s;
@@ -117,13 +201,23 @@ std::vector<UnitSpec> make_units() {
                        "1: t_enter rounded down, t_exit up (never a false miss); 2: also conservative "
                        "against d when rdir_i = RNE(1/d)"}};
     s.ports = control_ports();
-    for (PortSpec p : {in("org_i", "3*W", "ray origin {z, y, x}"), in("rdir_i", "3*W", "reciprocal direction {z, y, x}"),
-                       in("tmin_i", "W", "t_min"), in("tmax_i", "W", "t_max"),
-                       in("bmin_i", "3*W", "box minimum corner {z, y, x}"),
-                       in("bmax_i", "3*W", "box maximum corner {z, y, x}"), out_valid(),
+    for (PortSpec p : {vec3("org_i", "org", "ray origin {z, y, x}"), vec3("rdir_i", "rdir", "reciprocal direction {z, y, x}"),
+                       fin("tmin_i", "W", "t_min"), fin("tmax_i", "W", "t_max"),
+                       vec3("bmin_i", "bmin", "box minimum corner {z, y, x}"),
+                       vec3("bmax_i", "bmax", "box maximum corner {z, y, x}"), out_valid(),
                        out("hit_o", "1", "the ray's [t_min, t_max] meets the box"),
-                       out("t_enter_o", "W", "entry distance"), out("t_exit_o", "W", "exit distance")})
+                       fout("t_enter_o", "W", "entry distance"), fout("t_exit_o", "W", "exit distance")})
       s.ports.push_back(std::move(p));
+    s.golden = models::ray_box_golden;
+    s.random_inputs = models::ray_box_inputs;
+    s.large_model = true;
+    s.tests = {"e5m10:s0:OptConservative=1", "e7m16:s1", "e8m23:smax+1:OptConservative=2:selftest",
+               "e5m10-ftz:s3:OptConservative=2"};
+    s.long_tests = {"e5m10:s1", "e5m10:s6:OptConservative=1", "e7m16:s0:OptConservative=1", "e7m16:s10",
+                    "e8m23:s0", "e8m23:s1:OptConservative=1", "e8m23:s20", "e8m23-ftz:s2:OptConservative=1",
+                    "e7m16-ftz:s0", "e5m10:s2:rtz", "e7m16:s3:rup:OptConservative=1", "e11m52:s6:OptConservative=1",
+                    "e5m10-ftz:s1:OptConservative=1", "e7m16:s2:OptConservative=2", "e8m23-ftz:s0:OptConservative=2",
+                    "e8m23:s5:rdn:OptConservative=2"};
     s.max_stages_expr = "L+19";  // 6 + (L+5) + 3*3 segments, minus one
     u.push_back(std::move(s));
   }
@@ -143,16 +237,38 @@ std::vector<UnitSpec> make_units() {
     if (robust)
       s.extra_params.push_back({"OptRecip", 0, 0, 1, "1: one reciprocal 1/V and three multiplications (issue 14)"});
     s.ports = control_ports();
-    for (PortSpec p : {in("a_i", "3*W", "ray origin {z, y, x}"), in("d_i", "3*W", "ray direction {z, y, x}"),
-                       in("p0_i", "3*W", "vertex {z, y, x}"), in("p1_i", "3*W", "vertex {z, y, x}"),
-                       in("p2_i", "3*W", "vertex {z, y, x}"), in("tmin_i", "W", "t_min"), in("tmax_i", "W", "t_max"),
-                       out_valid(), out("hit_o", "1", "hit inside (t_min, t_max)"),
-                       out("why_o", "3",
-                           "0 hit, 1 sign of V0..V2, 2 tie-break, 3 |V| < eps, 4 t outside (t_min, t_max)"),
-                       out("t_o", "W", "distance t"), out("beta_o", "W", "barycentric beta"),
-                       out("gamma_o", "W", "barycentric gamma"),
-                       out("vol_o", "5*W", "{V2, V1, V0, Va, V} (OptVolOut)")})
+    PortSpec why = out("why_o", "3", "0 hit, 1 sign of V0..V2, 2 tie-break, 3 |V| < eps, 4 t outside (t_min, t_max)",
+                       FieldKind::Enum);
+    why.enum_names = {"hit", "sign", "tie_break", "eps", "interval"};
+    for (PortSpec p : {vec3("a_i", "a", "ray origin {z, y, x}"), vec3("d_i", "d", "ray direction {z, y, x}"),
+                       vec3("p0_i", "p0", "vertex {z, y, x}"), vec3("p1_i", "p1", "vertex {z, y, x}"),
+                       vec3("p2_i", "p2", "vertex {z, y, x}"), fin("tmin_i", "W", "t_min"), fin("tmax_i", "W", "t_max"),
+                       out_valid(), out("hit_o", "1", "hit inside (t_min, t_max)"), why,
+                       fout("t_o", "W", "distance t"), fout("beta_o", "W", "barycentric beta"),
+                       fout("gamma_o", "W", "barycentric gamma"),
+                       fvec(out("vol_o", "5*W", "{V2, V1, V0, Va, V} (OptVolOut)"), {"V", "Va", "V0", "V1", "V2"})})
       s.ports.push_back(std::move(p));
+    s.golden = [robust](const UnitConfig& c) { return models::ray_tri_golden(c, robust); };
+    s.random_inputs = models::ray_tri_inputs;
+    s.large_model = true;
+    if (robust) {
+      s.tests = {"e5m10:s0:OptVolOut=1", "e7m16:s1:OptVolOut=1:OptTieBreak=1",
+                 "e8m23:smax+1:OptTieBreak=1:OptEpsTest=1:EpsBits=981467136:selftest",
+                 "e5m10:smax:OptRecip=1:OptVolOut=1:selftest"};
+      s.long_tests = {"e5m10:s1:OptTieBreak=1", "e5m10:s12:OptVolOut=1", "e7m16:s0:OptEpsTest=1:EpsBits=3473408",
+                      "e7m16:s20:OptVolOut=1:OptTieBreak=1", "e8m23:s0:OptVolOut=1",
+                      "e8m23:s1:OptVolOut=1:OptTieBreak=1", "e8m23:s60:OptVolOut=1",
+                      "e5m10-ftz:s3:OptVolOut=1:OptTieBreak=1", "e8m23:s8:rdn:OptVolOut=1", "e11m52:s16:OptVolOut=1",
+                      "e8m23:s0:OptRecip=1:OptVolOut=1",
+                      "e8m23:smax+1:OptRecip=1:OptTieBreak=1:OptEpsTest=1:EpsBits=981467136",
+                      "e5m10-ftz:s7:OptRecip=1:OptVolOut=1"};
+    } else {
+      s.tests = {"e5m10:s1:OptVolOut=1", "e7m16:s0:OptEpsTest=1:EpsBits=3473408:OptVolOut=1", "e8m23:smax+1:selftest"};
+      s.long_tests = {"e5m10:s0:OptEpsTest=1:EpsBits=5120", "e5m10:s12:OptVolOut=1", "e7m16:s1:OptVolOut=1",
+                      "e7m16:s20:OptVolOut=1", "e8m23:s0:OptVolOut=1", "e8m23:s1:OptEpsTest=1:EpsBits=981467136",
+                      "e8m23:s60:OptVolOut=1", "e5m10-ftz:s3:OptVolOut=1", "e8m23:s8:rup:OptVolOut=1",
+                      "e11m52:s16:OptVolOut=1"};
+    }
     // robust: 4*6 + 2*(L+5) + (M+6) + 3 segments (OptRecip: + L+5 for the multiplications);
     // MT: 5*6 + 3*(L+5) + (M+6) + 3; minus one
     s.max_stages_expr = robust ? "2*L+M+42+OptRecip*(L+5)" : "3*L+M+53";
@@ -178,6 +294,11 @@ std::vector<UnitSpec> make_units() {
                        out("value_o", "OutW", "noise value, signed")})
       s.ports.push_back(std::move(p));
     s.max_stages_expr = "7";  // 8 segments (rtl/ru_noise.sv)
+    s.golden = models::noise_golden;
+    s.random_inputs = models::noise_inputs;
+    s.tests = {"s0:selftest", "s4:selftest", "s2:FracBits=5:IntBits=3:OutW=12", "smax+1:FracBits=16:IntBits=24:OutW=38"};
+    s.long_tests = {"s1", "s2", "s3", "s5", "s6", "s7", "s9:selftest", "s1:FracBits=4:IntBits=1:OutW=2",
+                    "s3:FracBits=12:IntBits=10:OutW=20"};
     s.check = [](const UnitConfig& c) {
       const UnitSpec& n = find_unit("noise");
       const long long fb = param_value(n, c, "FracBits"), ow = param_value(n, c, "OutW");
@@ -480,6 +601,64 @@ std::vector<Port> ports_for(const UnitSpec& u, const UnitConfig& c) {
   return v;
 }
 
+std::vector<Field> fields_for(const UnitSpec& u, const UnitConfig& c, PortDir dir) {
+  std::vector<Field> v;
+  for (const auto& p : u.ports) {
+    if (p.role != PortRole::Data || p.dir != dir) continue;
+    const long long w = eval_expr(p.width, u, c);
+    if (p.elems < 1 || w % p.elems != 0 || w / p.elems > 64 || w / p.elems < 1)
+      throw SynthError(u.name + ": port " + p.name + " (" + std::to_string(w) + " bits) does not split into " +
+                       std::to_string(p.elems) + " elements of 1..64 bits");
+    if (!p.elem_names.empty() && p.elem_names.size() != static_cast<size_t>(p.elems))
+      throw SynthError(u.name + ": port " + p.name + " has " + std::to_string(p.elems) + " elements but " +
+                       std::to_string(p.elem_names.size()) + " element names");
+    for (int i = 0; i < p.elems; ++i) {
+      Field f;
+      f.name = !p.elem_names.empty() ? p.elem_names[i] : p.elems == 1 ? p.name : p.name + "[" + std::to_string(i) + "]";
+      f.port = p.name;
+      f.elem = i;
+      f.bits = static_cast<int>(w / p.elems);
+      f.kind = p.kind;
+      f.enum_names = p.enum_names;
+      v.push_back(std::move(f));
+    }
+  }
+  return v;
+}
+
+UnitConfig config_from_params(const UnitSpec& u, const std::map<std::string, long long>& params) {
+  UnitConfig c;
+  auto take = [&](const char* n, long long def) {
+    auto it = params.find(n);
+    return it == params.end() ? def : it->second;
+  };
+  for (const auto& [k, v] : params) {
+    bool known = k == "Stages" || (u.uses_format && (k == "ExpW" || k == "FracW" || k == "Subnormals" || k == "Round"));
+    for (const auto& e : u.extra_params) known = known || e.name == k;
+    if (!known) throw SynthError(u.name + ": unknown RTL parameter '" + k + "'");
+    (void)v;
+  }
+  if (u.uses_format) {
+    c.fmt.exp_bits = static_cast<int>(take("ExpW", -1));
+    c.fmt.frac_bits = static_cast<int>(take("FracW", -1));
+    c.fmt.subnormals = take("Subnormals", 1) != 0;
+    const long long r = take("Round", 0);
+    if (r < 0 || r > 3) throw SynthError(u.name + ": Round must be 0..3, got " + std::to_string(r));
+    c.fmt.round = static_cast<num::Round>(r);
+  }
+  c.stages = static_cast<int>(take("Stages", 0));
+  for (const auto& e : u.extra_params)
+    if (params.count(e.name)) c.params[e.name] = params.at(e.name);
+  // Every check but the Stages maximum: the testbench runs units one past their maximum useful
+  // Stages (the RTL puts the extra register at the output).
+  UnitConfig probe = c;
+  probe.stages = u.min_stages;
+  check_config(u, probe);
+  if (c.stages < u.min_stages)
+    throw SynthError(u.name + ": Stages must be >= " + std::to_string(u.min_stages) + ", got " + std::to_string(c.stages));
+  return c;
+}
+
 std::vector<std::pair<std::string, long long>> params_for(const UnitSpec& u, const UnitConfig& c) {
   std::vector<std::pair<std::string, long long>> v;
   for (const auto& p : u.params) v.emplace_back(p.name, p.value(c));
@@ -562,13 +741,25 @@ std::string registry_json(const std::vector<UnitSpec>& us) {
     e["params"] = extra;
     nlohmann::ordered_json ports = nlohmann::ordered_json::array();
     static const char* roles[] = {"clock", "reset", "valid", "data"};
-    for (const auto& p : u.ports)
-      ports.push_back({{"name", p.name},
-                       {"dir", p.dir == PortDir::In ? "in" : "out"},
-                       {"role", roles[static_cast<int>(p.role)]},
-                       {"width", p.width},
-                       {"doc", p.doc}});
+    static const char* kinds[] = {"bits", "float", "flags", "enum"};
+    for (const auto& p : u.ports) {
+      nlohmann::ordered_json q = {{"name", p.name},
+                                  {"dir", p.dir == PortDir::In ? "in" : "out"},
+                                  {"role", roles[static_cast<int>(p.role)]},
+                                  {"width", p.width},
+                                  {"doc", p.doc}};
+      if (p.role == PortRole::Data) {
+        q["kind"] = kinds[static_cast<int>(p.kind)];
+        if (p.elems != 1) q["elems"] = p.elems;
+        if (!p.elem_names.empty()) q["elem_names"] = p.elem_names;
+        if (!p.enum_names.empty()) q["enum_names"] = p.enum_names;
+      }
+      ports.push_back(q);
+    }
     e["ports"] = ports;
+    e["large_model"] = u.large_model;
+    e["tests"] = u.tests;
+    e["long_tests"] = u.long_tests;
     arr.push_back(e);
   }
   j["units"] = arr;

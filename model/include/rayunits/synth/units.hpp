@@ -12,6 +12,7 @@
 // compares the two (ctest Registry.*). See docs/ARCHITECTURE.md, "How to add a unit".
 #pragma once
 
+#include <cstdint>
 #include <functional>
 #include <map>
 #include <stdexcept>
@@ -45,16 +46,46 @@ struct UnitConfig {
 enum class PortDir { In, Out };
 // What a port is for; the FPGA harness and the datasheet use it.
 enum class PortRole { Clock, Reset, Valid, Data };
+// What a data port's value (each of its elements) is: raw bits (fixed point, a hit bit), a bit
+// pattern of the configuration's format, the five IEEE flags {i, z, o, u, x}, or an enumeration
+// (op codes, reason codes: `enum_names` by value). The testbench prints values by it and draws
+// random values by it.
+enum class FieldKind : uint8_t { Bits, Float, Flags, Enum };
 
 struct PortSpec {
   std::string name;
-  PortDir dir;
-  PortRole role;
+  PortDir dir = PortDir::In;
+  PortRole role = PortRole::Data;
   // Bits, an expression for eval_expr() ("1", "W", "3*W", "FracBits+IntBits"); the value is >= 1.
   // Vector operands are packed {x2, x1, x0} with x0 in the low bits (`doc` says which).
   std::string width;
   std::string doc;  // one line for the datasheet
+  // Data ports: the port packs `elems` elements of width/elems bits, element 0 in the low bits;
+  // each element is one field of the golden model's records (see fields_for()), named
+  // elem_names[i] (or <port>[i]).
+  int elems = 1;
+  FieldKind kind = FieldKind::Bits;
+  std::vector<std::string> elem_names;
+  std::vector<std::string> enum_names;  // FieldKind::Enum
 };
+
+// One value of a golden-model record: an element of a data port.
+struct Field {
+  std::string name;  // "a_i", "org.x", "V0"
+  std::string port;  // "a_i", "org_i", "vol_o"
+  int elem = 0;      // element index inside the port (0 = low bits)
+  int bits = 1;      // <= 64
+  FieldKind kind = FieldKind::Bits;
+  std::vector<std::string> enum_names;
+};
+
+// The golden model of one configuration, bound once (tables built, parameters decoded):
+// in[i] is the value of input field i, out[j] receives output field j (fields_for() order:
+// data ports in declaration order, elements low first). Values are bit patterns in the low
+// `bits` bits. Bit-accurate: the RTL must equal it on every bit (tb/README.md).
+using GoldenEval = std::function<void(const std::uint64_t* in, std::uint64_t* out)>;
+// Random input records for one configuration and seed (deterministic): fills every input field.
+using InputGen = std::function<void(std::uint64_t* in)>;
 
 struct ParamSpec {
   std::string name;                                   // RTL parameter name
@@ -100,6 +131,20 @@ struct UnitSpec {
   bool seg_weights_param = false;
   // Further constraints between parameters; throws SynthError. May be empty.
   std::function<void(const UnitConfig&)> check;
+  // The golden-model adapter (model/src/synth/unit_models.cpp): binds the unit's bit-accurate
+  // model to a configuration. Used by the testbench (tb/src/registry_adapter.cpp) and the TRaX
+  // co-simulation; every registered unit has one (Registry.EveryUnitHasAModel).
+  std::function<GoldenEval(const UnitConfig&)> golden;
+  // The unit's random vector generator (weighted towards its hard cases: specials, ties,
+  // cancellation, edges): what the generic test plan drives (tb/src/registry_plan.cpp).
+  std::function<InputGen(const UnitConfig&, std::uint64_t seed)> random_inputs;
+  // The fast RTL test matrix (tb/cmake/RuTb.cmake configuration tokens, "e8m23:smax+1:selftest",
+  // "s4:FracBits=5") and the long one (label long, built with -DRU_TB_LONG=ON). CMake builds
+  // tb_<name> (and tb_<name>_long) from them through model/data/registry.json.
+  std::vector<std::string> tests, long_tests;
+  // Verilated models of this unit are large (ray units): built at the tb's "large model"
+  // optimisation level, without FST tracing unless asked (tb/CMakeLists.txt).
+  bool large_model = false;
 };
 
 // Evaluates a registry expression: integers, + - * / ( ), and the names
@@ -159,6 +204,17 @@ struct Port {
   std::string doc;
 };
 std::vector<Port> ports_for(const UnitSpec& u, const UnitConfig& c);
+
+// The golden-model record layout of a configuration: the fields of the data ports of direction
+// `dir`, in port order, each port's elements low first. Throws SynthError if an element is wider
+// than 64 bits or a width is not a multiple of the element count.
+std::vector<Field> fields_for(const UnitSpec& u, const UnitConfig& c, PortDir dir);
+
+// The configuration an RTL parameter set stands for (the inverse of params_for(): ExpW, FracW,
+// Subnormals, Round give the format, Stages the stages, the unit's extra parameters by name).
+// Unknown parameter names throw SynthError; the result passes check_config() except that Stages
+// may exceed the maximum useful Stages (the RTL puts extra registers at the output).
+UnitConfig config_from_params(const UnitSpec& u, const std::map<std::string, long long>& params);
 
 // The RTL parameters of the configuration, in order (fixed ones, then extra ones).
 std::vector<std::pair<std::string, long long>> params_for(const UnitSpec& u, const UnitConfig& c);

@@ -34,7 +34,8 @@ GlobalOptions& global_options();
 // prints one line to stderr and returns false.
 bool parse_options(int& argc, char** argv);
 
-// A unit's test plan: given one configuration, registers its GoogleTest cases.
+// A unit's test plan: given one configuration, registers its GoogleTest cases. The plan
+// registered for unit "*" (tb/src/registry_plan.cpp) serves every unit without its own.
 using TestPlan = std::function<void(const ConfigDesc&)>;
 std::vector<std::pair<std::string, TestPlan>>& registered_plans();
 struct PlanRegistrar {

@@ -1,0 +1,260 @@
+// Golden-model adapters and random vector generators of the registered units (unit_models.hpp).
+#include "unit_models.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <string>
+
+#include "rayunits/noise/fixed.hpp"
+#include "rayunits/num/fp.hpp"
+#include "rayunits/num/patterns.hpp"
+#include "rayunits/units/ray_box.hpp"
+#include "rayunits/units/ray_tri.hpp"
+#include "rayunits/units/ray_tri_cheap.hpp"
+#include "rayunits/units/synthetic.hpp"
+#include "rayunits/util/rng.hpp"
+
+namespace ru::synth::models {
+
+using num::Format;
+using num::Soft;
+using units::Vec3;
+
+namespace {
+
+int operands(FpShape s) {
+  switch (s) {
+    case FpShape::Unary: return 1;
+    case FpShape::Binary: return 2;
+    case FpShape::Ternary: return 3;
+    case FpShape::Dot3: return 6;
+  }
+  return 0;
+}
+
+long long param(const UnitConfig& c, const char* name) {
+  auto it = c.params.find(name);
+  return it == c.params.end() ? 0 : it->second;
+}
+
+// Special values sprinkled into generated records (NaN, sNaN, +-INF, +-0, extremes).
+struct Sprinkler {
+  std::vector<uint64_t> sv;
+  explicit Sprinkler(const Format& f) : sv(num::special_values(f)) {}
+  void operator()(util::Xoshiro256ss& rng, uint64_t* in, int n, int permille) const {
+    for (int i = 0; i < n; ++i)
+      if (util::bounded_lemire(rng, 1000) < static_cast<uint64_t>(permille))
+        in[i] = sv[util::bounded_lemire(rng, sv.size())];
+  }
+};
+
+Format rne(Format f) {
+  f.round = num::Round::RNE;
+  return f;
+}
+
+}  // namespace
+
+// ---- floating-point units ----------------------------------------------------------------------
+
+GoldenEval fp_golden(const UnitConfig& c, FpShape shape, std::vector<FpOp> ops) {
+  const Format f = c.fmt;
+  const int n = operands(shape);
+  const bool has_op = ops.size() > 1;
+  return [f, n, shape, has_op, ops](const uint64_t* in, uint64_t* out) {
+    // An op_i code the unit does not define (fp_cmp 5..7) has no specified result; the
+    // generators never issue one, and the model reads it as the last op.
+    const FpOp& o = ops[has_op ? std::min<uint64_t>(in[n], ops.size() - 1) : 0];
+    num::Result r;
+    if (shape == FpShape::Dot3) {
+      r = num::dot3(f, &in[0], &in[3]);
+    } else if (shape == FpShape::Ternary) {
+      const uint64_t a = (o.neg & 2) ? num::neg(f, in[0]) : in[0];
+      const uint64_t cc = (o.neg & 1) ? num::neg(f, in[2]) : in[2];
+      r = num::apply(f, o.op, a, in[1], cc);
+    } else {
+      r = num::apply(f, o.op, in[0], shape == FpShape::Unary ? 0 : in[1]);
+    }
+    out[0] = r.bits;
+    out[1] = r.flags;
+  };
+}
+
+InputGen fp_inputs(const UnitConfig& c, uint64_t seed, FpShape shape, int nops) {
+  struct State {
+    Format f;
+    num::OperandGen gen;
+    util::Xoshiro256ss rng;
+    State(const Format& f, uint64_t seed) : f(f), gen(f, seed), rng(seed ^ 0xabcdef) {}
+  };
+  auto st = std::make_shared<State>(c.fmt, seed);
+  const int n = operands(shape);
+  return [st, shape, nops, n](uint64_t* in) {
+    // The op is drawn first (also for one op: the stream of the testbench's former generator).
+    const uint64_t op = shape == FpShape::Dot3 ? 0 : util::bounded_lemire(st->rng, static_cast<uint64_t>(nops));
+    switch (shape) {
+      case FpShape::Dot3:
+        st->gen.triple(in[0], in[1], in[2]);
+        st->gen.triple(in[3], in[4], in[5]);
+        if (util::bounded_lemire(st->rng, 4) == 0) {  // a1*b1 = -(a0*b0): the sum cancels to a2*b2
+          in[1] = in[0];
+          in[4] = num::neg(st->f, in[3]);
+        }
+        break;
+      case FpShape::Ternary: st->gen.triple(in[0], in[1], in[2]); break;  // near ties, c ~ -a*b
+      case FpShape::Unary:  // sqrt: exact squares and squares of rounding midpoints, or anything
+        in[0] = util::bounded_lemire(st->rng, 2) ? st->gen.sqrt_case() : st->gen.next();
+        break;
+      case FpShape::Binary: st->gen.pair(in[0], in[1]); break;
+    }
+    if (nops > 1) in[n] = op;
+  };
+}
+
+// ---- ray units ---------------------------------------------------------------------------------
+
+GoldenEval ray_box_golden(const UnitConfig& c) {
+  const Format f = c.fmt;
+  const long long mode = param(c, "OptConservative");
+  return [f, mode](const uint64_t* in, uint64_t* out) {
+    num::SoftScope scope(f);
+    auto S = [&](int i) { return Soft::from_bits(in[i]); };
+    auto V = [&](int i) { return Vec3<Soft>{S(i), S(i + 1), S(i + 2)}; };
+    using units::BoxMode;
+    const auto r = units::ray_box(V(0), V(3), V(8), V(11), S(6), S(7),
+                                  mode == 2 ? BoxMode::DConservative : mode == 1 ? BoxMode::Conservative : BoxMode::Plain);
+    out[0] = r.hit;
+    out[1] = r.t_enter.bits;
+    out[2] = r.t_exit.bits;
+  };
+}
+
+GoldenEval ray_tri_golden(const UnitConfig& c, bool robust) {
+  const Format f = c.fmt;
+  units::TriOptions opt;
+  opt.tie_break = robust && param(c, "OptTieBreak") != 0;
+  opt.eps_test = param(c, "OptEpsTest") != 0;
+  opt.eps = num::to_double(f, static_cast<uint64_t>(param(c, "EpsBits")));
+  const bool recip = robust && param(c, "OptRecip") != 0, vol = param(c, "OptVolOut") != 0;
+  return [f, opt, robust, recip, vol](const uint64_t* in, uint64_t* out) {
+    num::SoftScope scope(f);
+    auto S = [&](int i) { return Soft::from_bits(in[i]); };
+    auto V = [&](int i) { return Vec3<Soft>{S(i), S(i + 1), S(i + 2)}; };
+    const auto r = !robust ? units::ray_tri_mt(V(0), V(3), V(6), V(9), V(12), S(15), S(16), opt)
+                   : recip ? units::ray_tri_robust_recip(V(0), V(3), V(6), V(9), V(12), S(15), S(16), opt)
+                           : units::ray_tri_robust(V(0), V(3), V(6), V(9), V(12), S(15), S(16), opt);
+    out[0] = r.hit;
+    out[1] = static_cast<uint64_t>(r.why);
+    out[2] = r.t.bits;
+    out[3] = r.beta.bits;
+    out[4] = r.gamma.bits;
+    const uint64_t v[5] = {r.V.bits, r.Va.bits, r.V0.bits, r.V1.bits, r.V2.bits};
+    for (int i = 0; i < 5; ++i) out[5 + i] = vol ? v[i] : 0;  // vol_o is constant 0 without OptVolOut
+  };
+}
+
+namespace {
+
+// Batches of the synthetic workloads (units/synthetic.hpp) at a random scale 2^[-12, 12] per
+// batch, rounded to the format (RNE), 1 % of the fields replaced by special values.
+template <class Rec>
+struct SynthStream {
+  Format f;
+  Sprinkler sp;
+  util::Xoshiro256ss rng;
+  std::vector<Rec> batch;
+  size_t next = 0;
+  uint64_t batches = 0;
+  SynthStream(const Format& fmt, uint64_t seed) : f(rne(fmt)), sp(fmt), rng(seed) {}
+  double scale() {
+    const int e = static_cast<int>(util::bounded_lemire(rng, 25)) - 12;
+    const int lim = std::max(1, f.emax() / 3 - 1);  // keep cubic volumes mostly finite
+    return std::ldexp(1.0, std::clamp(e, -lim, lim));
+  }
+  uint64_t q(double x) const { return num::from_double(f, x).bits; }
+};
+
+}  // namespace
+
+InputGen ray_box_inputs(const UnitConfig& c, uint64_t seed) {
+  auto st = std::make_shared<SynthStream<units::BoxRecord>>(c.fmt, seed);
+  return [st](uint64_t* in) {
+    if (st->next == st->batch.size()) {
+      units::SynthBoxOptions o;
+      o.seed = util::mix_seed(st->rng.next(), std::to_string(st->batches++));
+      o.boxes = 16;
+      o.scale = st->scale();
+      st->batch = units::synth_box(o);
+      st->next = 0;
+    }
+    const units::BoxRecord& r = st->batch[st->next++];
+    for (int k = 0; k < 3; ++k) {
+      in[k] = st->q(r.o[k]);
+      in[3 + k] = st->q(r.inv[k]);
+      in[8 + k] = st->q(r.lo[k]);
+      in[11 + k] = st->q(r.hi[k]);
+    }
+    in[6] = st->q(r.t_min);
+    in[7] = st->q(r.t_max);
+    st->sp(st->rng, in, 14, 10);
+  };
+}
+
+InputGen ray_tri_inputs(const UnitConfig& c, uint64_t seed) {
+  auto st = std::make_shared<SynthStream<units::TriRecord>>(c.fmt, seed);
+  return [st](uint64_t* in) {
+    if (st->next == st->batch.size()) {
+      units::SynthTriOptions o;
+      o.seed = util::mix_seed(st->rng.next(), std::to_string(st->batches++));
+      o.triangles = 16;
+      o.scale = st->scale();
+      st->batch = units::synth_tri(o);
+      st->next = 0;
+    }
+    const units::TriRecord& r = st->batch[st->next++];
+    int i = 0;
+    for (const units::Vec3d* v : {&r.a, &r.d, &r.p0, &r.p1, &r.p2})
+      for (int k = 0; k < 3; ++k) in[i++] = st->q((*v)[k]);
+    in[15] = st->q(r.t_min);
+    in[16] = st->q(r.t_max);
+    st->sp(st->rng, in, 17, 10);
+  };
+}
+
+// ---- noise -------------------------------------------------------------------------------------
+
+namespace {
+noise::FixedConfig noise_config(const UnitConfig& c) {
+  noise::FixedConfig fc;
+  auto p = [&](const char* n, int def) {
+    auto it = c.params.find(n);
+    return it == c.params.end() ? def : static_cast<int>(it->second);
+  };
+  fc.frac_bits = p("FracBits", fc.frac_bits);
+  fc.int_bits = p("IntBits", fc.int_bits);
+  fc.out_w = p("OutW", fc.out_w);
+  fc.validate();
+  return fc;
+}
+}  // namespace
+
+GoldenEval noise_golden(const UnitConfig& c) {
+  auto m = std::make_shared<noise::FixedNoise>(noise_config(c));
+  const uint64_t mask = (1ull << m->config().out_w) - 1;
+  return [m, mask](const uint64_t* in, uint64_t* out) {
+    const int64_t v = m->eval(static_cast<int64_t>(in[0]), static_cast<int64_t>(in[1]), static_cast<int64_t>(in[2]));
+    out[0] = static_cast<uint64_t>(v) & mask;
+  };
+}
+
+InputGen noise_inputs(const UnitConfig& c, uint64_t seed) {
+  const noise::FixedConfig fc = noise_config(c);
+  auto rng = std::make_shared<util::Xoshiro256ss>(seed);
+  const uint64_t mask = (1ull << fc.in_w()) - 1;
+  return [rng, mask](uint64_t* in) {
+    for (int i = 0; i < 3; ++i) in[i] = rng->next() & mask;  // whole range: negative, both table ends, wrap
+  };
+}
+
+}  // namespace ru::synth::models

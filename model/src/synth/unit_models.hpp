@@ -1,0 +1,38 @@
+// The golden-model adapters and random vector generators of the registered units (private to
+// model/src/synth: the registry entries in units.cpp name them; the tools reach them through
+// UnitSpec::golden and UnitSpec::random_inputs). Each binds the bit-accurate model of
+// model/include/rayunits/{num,units,noise} to the record layout fields_for() derives from the
+// unit's ports.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "rayunits/num/format.hpp"
+#include "rayunits/synth/units.hpp"
+
+namespace ru::synth::models {
+
+// Floating-point units. `ops` are the operations by op_i code (one entry: the unit has no op_i,
+// the op field is absent); `neg` per op: bit 0 negates c, bit 1 negates a (so a*b) — fp_fma.
+struct FpOp {
+  num::Op op;
+  uint8_t neg = 0;
+};
+enum class FpShape : uint8_t { Unary, Binary, Ternary, Dot3 };
+// Records: operands in port order (a b c, or a0 a1 a2 b0 b1 b2), then op_i if the unit has one.
+GoldenEval fp_golden(const UnitConfig& c, FpShape shape, std::vector<FpOp> ops);
+InputGen fp_inputs(const UnitConfig& c, uint64_t seed, FpShape shape, int nops);
+
+// ray_box: org.xyz rdir.xyz tmin tmax bmin.xyz bmax.xyz -> hit t_enter t_exit
+GoldenEval ray_box_golden(const UnitConfig& c);
+InputGen ray_box_inputs(const UnitConfig& c, uint64_t seed);
+// ray_tri_robust / ray_tri_mt: a.xyz d.xyz p0.xyz p1.xyz p2.xyz tmin tmax
+//   -> hit why t beta gamma V Va V0 V1 V2 (the volumes 0 unless OptVolOut = 1)
+GoldenEval ray_tri_golden(const UnitConfig& c, bool robust);
+InputGen ray_tri_inputs(const UnitConfig& c, uint64_t seed);
+// noise: x y z -> value
+GoldenEval noise_golden(const UnitConfig& c);
+InputGen noise_inputs(const UnitConfig& c, uint64_t seed);
+
+}  // namespace ru::synth::models
