@@ -40,10 +40,13 @@ using ru::noise::FixedConfig;
 using ru::noise::FixedNoise;
 
 FixedConfig noise_config(const ConfigDesc& cfg) {
+  // parameters not set take the registry's defaults
+  const synth::UnitSpec& u = synth::find_unit("noise");
+  const synth::UnitConfig uc = unit_config(cfg);
   FixedConfig c;
-  c.frac_bits = static_cast<int>(cfg.param("FracBits", 8));
-  c.int_bits = static_cast<int>(cfg.param("IntBits", 8));
-  c.out_w = static_cast<int>(cfg.param("OutW", 10));
+  c.frac_bits = static_cast<int>(synth::param_value(u, uc, "FracBits"));
+  c.int_bits = static_cast<int>(synth::param_value(u, uc, "IntBits"));
+  c.out_w = static_cast<int>(synth::param_value(u, uc, "OutW"));
   c.validate();
   return c;
 }
@@ -133,14 +136,11 @@ void add(const Ctx& c, const std::string& suite, const std::string& test, std::f
   });
 }
 
+// The registry's generator (UnitSpec::random_inputs: uniform words over the whole input range).
 SourceFn random_source(const Ctx& c, std::uint64_t n, const std::string& test) {
-  const std::uint64_t seed = c.seed(test), m = c.mask();
-  return [seed, m, n] {
-    auto rng = std::make_shared<Rng>(seed);
-    return std::make_unique<FnSource>(n, [rng, m](std::uint64_t, Record& r) {
-      for (int a = 0; a < 3; ++a) r.v[a] = rng->next() & m;
-    });
-  };
+  const std::uint64_t seed = c.seed(test);
+  const synth::UnitConfig uc = noise_unit_config(c.fc, c.stages);
+  return [seed, uc, n] { return registry_random_source(synth::find_unit("noise"), uc, seed, n); };
 }
 
 SourceFn negative_source(const Ctx& c, std::uint64_t n) {

@@ -6,6 +6,7 @@
 
 #include "rayunits/num/patterns.hpp"
 #include "ray.hpp"
+#include "rayunits/synth/unit_models.hpp"
 #include "rayunits/units/synthetic.hpp"
 
 namespace ru::tb::ray {
@@ -29,25 +30,15 @@ struct Conv {
   Format f;
   explicit Conv(const Format& fmt) : f(rne(fmt)) {}
   uint64_t operator()(double x) const { return ru::num::from_double(f, x).bits; }
+  // The registry's field order (ru::synth::models::tri_fields / box_fields).
   Record tri(const TriRecord& r) const {
     Record R{};
-    int i = 0;
-    for (const Vec3d* v : {&r.a, &r.d, &r.p0, &r.p1, &r.p2})
-      for (int k = 0; k < 3; ++k) R.v[i++] = (*this)((*v)[k]);
-    R.v[15] = (*this)(r.t_min);
-    R.v[16] = (*this)(r.t_max);
+    ru::synth::models::tri_fields(f, r, R.v);
     return R;
   }
-  Record box(const BoxRecord& r) const {  // the registry's order: org rdir tmin tmax bmin bmax
+  Record box(const BoxRecord& r) const {
     Record R{};
-    for (int k = 0; k < 3; ++k) {
-      R.v[k] = (*this)(r.o[k]);
-      R.v[3 + k] = (*this)(r.inv[k]);
-      R.v[8 + k] = (*this)(r.lo[k]);
-      R.v[11 + k] = (*this)(r.hi[k]);
-    }
-    R.v[6] = (*this)(r.t_min);
-    R.v[7] = (*this)(r.t_max);
+    ru::synth::models::box_fields(f, r, R.v);
     return R;
   }
 };

@@ -44,16 +44,10 @@ RayConfig ray_config(const ConfigDesc& cfg) {
   else if (cfg.unit == "ray_tri_robust") c.unit = Unit::Robust;
   else if (cfg.unit == "ray_tri_mt") c.unit = Unit::Mt;
   else throw std::runtime_error("tb/ray: unknown unit " + cfg.unit);
-  c.f.exp_bits = static_cast<int>(cfg.param("ExpW", -1));
-  c.f.frac_bits = static_cast<int>(cfg.param("FracW", -1));
-  c.f.subnormals = cfg.param("Subnormals", 1) != 0;
-  const int64_t r = cfg.param("Round", 0);
-  if (r < 0 || r > 3) throw ru::num::FormatError(cfg.full_name() + ": Round must be 0..3");
-  c.f.round = static_cast<ru::num::Round>(r);
-  c.f.validate();
-  c.stages = static_cast<int>(cfg.param("Stages", 0));
+  const synth::UnitConfig uc = unit_config(cfg);  // the registry decodes and range-checks the parameters
+  c.f = uc.fmt;
+  c.stages = uc.stages;
   const int64_t cons = cfg.param("OptConservative", 0);
-  if (cons < 0 || cons > 2) throw std::runtime_error(cfg.full_name() + ": OptConservative must be 0..2");
   c.conservative = cons != 0;
   c.dcons = cons == 2;
   c.tie_break = cfg.param("OptTieBreak", 0) != 0;

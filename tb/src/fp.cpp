@@ -42,17 +42,7 @@ const FpUnitSpec* fp_unit_spec(const std::string& unit) {
   return nullptr;
 }
 
-Format fp_format(const ConfigDesc& cfg) {
-  Format f;
-  f.exp_bits = static_cast<int>(cfg.param("ExpW", -1));
-  f.frac_bits = static_cast<int>(cfg.param("FracW", -1));
-  f.subnormals = cfg.param("Subnormals", 1) != 0;
-  const int64_t r = cfg.param("Round", 0);
-  if (r < 0 || r > 3) throw ru::num::FormatError(cfg.full_name() + ": Round must be 0..3");
-  f.round = static_cast<ru::num::Round>(r);
-  f.validate();
-  return f;
-}
+Format fp_format(const ConfigDesc& cfg) { return unit_config(cfg).fmt; }  // the registry's decoding
 
 std::string fp_format_name(const Format& f) { return f.name() + " " + ru::num::round_name(f.round); }
 

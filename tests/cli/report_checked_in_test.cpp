@@ -11,6 +11,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "../common/files.hpp"
 #include "../common/run_rayunits.hpp"
 #include "../common/temp_dir.hpp"
 #include "rayunits/num/format.hpp"
@@ -22,18 +23,8 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
-
-int count_lines(const std::string& s) {
-  int n = 0;
-  for (char c : s) n += c == '\n';
-  return n;
-}
+using ru::test::count_lines;
+using ru::test::slurp;
 
 // The current RTL hash and wrapper top of fp_cmp e5m10 Stages 0, computed by the library the
 // report uses (not copied from a results file).

@@ -1,5 +1,5 @@
 // Golden-model adapters and random vector generators of the registered units (unit_models.hpp).
-#include "unit_models.hpp"
+#include "rayunits/synth/unit_models.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -172,31 +172,52 @@ struct SynthStream {
     const int lim = std::max(1, f.emax() / 3 - 1);  // keep cubic volumes mostly finite
     return std::ldexp(1.0, std::clamp(e, -lim, lim));
   }
-  uint64_t q(double x) const { return num::from_double(f, x).bits; }
+  // The next record: a new batch of make(seed, scale) when the current one is used up.
+  template <class Make>
+  const Rec& take(Make make) {
+    if (next == batch.size()) {
+      const uint64_t s = util::mix_seed(rng.next(), std::to_string(batches++));
+      batch = make(s, scale());
+      next = 0;
+    }
+    return batch[next++];
+  }
 };
 
 }  // namespace
 
+void box_fields(const Format& fmt, const units::BoxRecord& r, uint64_t* in) {
+  const Format f = rne(fmt);
+  auto q = [&](double x) { return num::from_double(f, x).bits; };
+  for (int k = 0; k < 3; ++k) {
+    in[k] = q(r.o[k]);
+    in[3 + k] = q(r.inv[k]);
+    in[8 + k] = q(r.lo[k]);
+    in[11 + k] = q(r.hi[k]);
+  }
+  in[6] = q(r.t_min);
+  in[7] = q(r.t_max);
+}
+
+void tri_fields(const Format& fmt, const units::TriRecord& r, uint64_t* in) {
+  const Format f = rne(fmt);
+  int i = 0;
+  for (const units::Vec3d* v : {&r.a, &r.d, &r.p0, &r.p1, &r.p2})
+    for (int k = 0; k < 3; ++k) in[i++] = num::from_double(f, (*v)[k]).bits;
+  in[15] = num::from_double(f, r.t_min).bits;
+  in[16] = num::from_double(f, r.t_max).bits;
+}
+
 InputGen ray_box_inputs(const UnitConfig& c, uint64_t seed) {
   auto st = std::make_shared<SynthStream<units::BoxRecord>>(c.fmt, seed);
   return [st](uint64_t* in) {
-    if (st->next == st->batch.size()) {
+    box_fields(st->f, st->take([](uint64_t s, double scale) {
       units::SynthBoxOptions o;
-      o.seed = util::mix_seed(st->rng.next(), std::to_string(st->batches++));
+      o.seed = s;
       o.boxes = 16;
-      o.scale = st->scale();
-      st->batch = units::synth_box(o);
-      st->next = 0;
-    }
-    const units::BoxRecord& r = st->batch[st->next++];
-    for (int k = 0; k < 3; ++k) {
-      in[k] = st->q(r.o[k]);
-      in[3 + k] = st->q(r.inv[k]);
-      in[8 + k] = st->q(r.lo[k]);
-      in[11 + k] = st->q(r.hi[k]);
-    }
-    in[6] = st->q(r.t_min);
-    in[7] = st->q(r.t_max);
+      o.scale = scale;
+      return units::synth_box(o);
+    }), in);
     st->sp(st->rng, in, 14, 10);
   };
 }
@@ -204,20 +225,13 @@ InputGen ray_box_inputs(const UnitConfig& c, uint64_t seed) {
 InputGen ray_tri_inputs(const UnitConfig& c, uint64_t seed) {
   auto st = std::make_shared<SynthStream<units::TriRecord>>(c.fmt, seed);
   return [st](uint64_t* in) {
-    if (st->next == st->batch.size()) {
+    tri_fields(st->f, st->take([](uint64_t s, double scale) {
       units::SynthTriOptions o;
-      o.seed = util::mix_seed(st->rng.next(), std::to_string(st->batches++));
+      o.seed = s;
       o.triangles = 16;
-      o.scale = st->scale();
-      st->batch = units::synth_tri(o);
-      st->next = 0;
-    }
-    const units::TriRecord& r = st->batch[st->next++];
-    int i = 0;
-    for (const units::Vec3d* v : {&r.a, &r.d, &r.p0, &r.p1, &r.p2})
-      for (int k = 0; k < 3; ++k) in[i++] = st->q((*v)[k]);
-    in[15] = st->q(r.t_min);
-    in[16] = st->q(r.t_max);
+      o.scale = scale;
+      return units::synth_tri(o);
+    }), in);
     st->sp(st->rng, in, 17, 10);
   };
 }

@@ -14,7 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "rayunits/synth/process.hpp"
-#include "unit_models.hpp"
+#include "rayunits/synth/unit_models.hpp"
 
 namespace ru::synth {
 namespace fs = std::filesystem;

@@ -1,6 +1,7 @@
-// The golden-model adapters and random vector generators of the registered units (private to
-// model/src/synth: the registry entries in units.cpp name them; the tools reach them through
-// UnitSpec::golden and UnitSpec::random_inputs). Each binds the bit-accurate model of
+// The golden-model adapters and random vector generators of the registered units (the registry
+// entries in model/src/synth/units.cpp name them; the tools reach them through UnitSpec::golden
+// and UnitSpec::random_inputs), and the one mapping of trace records to the ray units' input
+// fields (also used by the ray testbench's sources). Each binds the bit-accurate model of
 // model/include/rayunits/{num,units,noise} to the record layout fields_for() derives from the
 // unit's ports.
 #pragma once
@@ -10,6 +11,7 @@
 
 #include "rayunits/num/format.hpp"
 #include "rayunits/synth/units.hpp"
+#include "rayunits/units/trace.hpp"
 
 namespace ru::synth::models {
 
@@ -23,6 +25,12 @@ enum class FpShape : uint8_t { Unary, Binary, Ternary, Dot3 };
 // Records: operands in port order (a b c, or a0 a1 a2 b0 b1 b2), then op_i if the unit has one.
 GoldenEval fp_golden(const UnitConfig& c, FpShape shape, std::vector<FpOp> ops);
 InputGen fp_inputs(const UnitConfig& c, uint64_t seed, FpShape shape, int nops);
+
+// A trace record as the unit's input fields, each value rounded to nearest into `f`:
+// ray_box org.xyz rdir.xyz tmin tmax bmin.xyz bmax.xyz (14 fields), ray_tri_* a.xyz d.xyz p0.xyz
+// p1.xyz p2.xyz tmin tmax (17 fields).
+void box_fields(const num::Format& f, const units::BoxRecord& r, uint64_t* in);
+void tri_fields(const num::Format& f, const units::TriRecord& r, uint64_t* in);
 
 // ray_box: org.xyz rdir.xyz tmin tmax bmin.xyz bmax.xyz -> hit t_enter t_exit
 GoldenEval ray_box_golden(const UnitConfig& c);
