@@ -94,37 +94,16 @@ class TrafficGen {
   uint64_t left_ = 0;
 };
 
-struct Slot {
-  bool valid = false;
-  int64_t item = -1;
-  uint64_t cycle = 0;
-  Record in;
-  Record exp;
-};
-
+// Drives a Scoreboard from a VectorSource: traffic, random and forced resets, re-issue of what
+// a reset dropped, the drain at the end, progress lines.
 class Runner {
  public:
   Runner(Dut& dut, UnitAdapter& ad, VectorSource& src, const RunOptions& o)
       : dut_(dut),
-        ad_(ad),
         src_(src),
         o_(o),
-        ins_(ad.inputs()),
-        outs_(ad.outputs()),
-        latency_(o.stages + o.inject.latency_delta),
         traffic_(mix_seed(o.seed, o.test + "#traffic"), o.traffic, o.stages, o.reset_every),
-        junk_(mix_seed(o.seed, o.test + "#junk")) {
-    if (latency_ < 0) throw std::invalid_argument("ru::tb::run: negative expected latency");
-    if (ins_.size() > kMaxFields || outs_.size() > kMaxFields)
-      throw std::invalid_argument("ru::tb::run: more than kMaxFields fields in a record");
-    const PortMap& pm = dut.ports();
-    clk_ = pm.get("clk_i");
-    rst_ = pm.get("rst_ni");
-    in_valid_ = pm.get("in_valid_i");
-    out_valid_ = pm.get("out_valid_o");
-    ad_.bind(pm);
-    ring_.resize(static_cast<size_t>(latency_) + 1);
-  }
+        sb_(dut, ad, o) {}
 
   static double thread_cpu() {
     timespec ts;
@@ -136,14 +115,17 @@ class Runner {
     const auto t0 = std::chrono::steady_clock::now();
     const double c0 = thread_cpu();
     auto last_progress = t0;
-    tracing_ = !o_.trace_path.empty();
-    if (tracing_ && !dut_.trace_open(o_.trace_path)) {
+    bool tracing = !o_.trace_path.empty();
+    if (tracing && !dut_.trace_open(o_.trace_path)) {
       std::cerr << "[" << o_.test << "] note: FST tracing unavailable (model built without "
                 << "TRACE_FST or Dut made without trace)\n";
-      tracing_ = false;
+      tracing = false;
     }
+    sb_.set_tracing(tracing);
+    RunStats& st = sb_.stats();
+    std::deque<Record>& replay = sb_.dropped();
     // Initial reset: 2..4 cycles (X-initialized registers must be cleared by it).
-    int initial_reset = 2 + static_cast<int>(junk_.below(3));
+    int initial_reset = 2 + static_cast<int>(sb_.junk().below(3));
     uint64_t drain = 0;
     bool exhausted = false;
     size_t next_forced = 0;
@@ -151,7 +133,7 @@ class Runner {
     std::sort(forced.begin(), forced.end());
 
     for (uint64_t t = 0;; ++t) {
-      st_.cycles = t + 1;
+      st.cycles = t + 1;
       Action a;
       const bool initial_reset_active = initial_reset > 0;
       if (initial_reset > 0) {
@@ -161,194 +143,239 @@ class Runner {
         ++next_forced;
         a = kReset;
       } else if (exhausted) {
-        a = replay_.empty() ? kIdle : kValid;  // re-issue what a forced reset dropped
+        a = replay.empty() ? kIdle : kValid;  // re-issue what a forced reset dropped
       } else {
         a = traffic_.next();
       }
-      Slot& s = ring_[t % ring_.size()];
-      s.valid = false;
       if (a == kReset) {
-        reset_cycle(t, initial_reset_active);
+        sb_.reset(t, initial_reset_active);
       } else {
-        rst_.set(1);
-        bool issued = false;
-        if (a == kValid && fetch(s.in)) {
-          in_valid_.set(1);
-          ad_.drive(s.in);
-          if (o_.check) {
-            s.valid = true;
-            s.item = static_cast<int64_t>(st_.issued);
-            s.cycle = t;
-            ad_.model(s.in, s.exp);
-            if (s.item == o_.inject.flip_item) s.exp.v[o_.inject.flip_field] ^= 1ull << o_.inject.flip_bit;
-          }
-          ++st_.issued;
-          issued = true;
-          drain = 0;
-        }
-        if (!issued) {
-          in_valid_.set(0);
-          drive_junk();
-          if (a == kValid) exhausted = replay_.empty();  // fetch() failed: nothing left
-        }
+        Record in;
+        const bool issued = a == kValid && fetch(in);
+        if (issued) drain = 0;
+        if (!issued && a == kValid) exhausted = replay.empty();  // fetch() failed: nothing left
+        sb_.cycle(t, issued ? &in : nullptr);
       }
-      clk_.set(0);
-      dut_.eval();
-      if (o_.check && a != kReset) check(t);
-      if (tracing_ && t >= o_.trace_from) dut_.trace_dump(10 * t);
-      clk_.set(1);
-      dut_.eval();
-      if (tracing_ && t >= o_.trace_from) dut_.trace_dump(10 * t + 5);
-
-      if (st_.errors.size() >= static_cast<size_t>(o_.max_errors)) {
-        st_.aborted = true;
+      if (st.errors.size() >= static_cast<size_t>(o_.max_errors)) {
+        st.aborted = true;
         break;
       }
       if (t >= o_.stop_after_cycle) break;
-      if (exhausted && replay_.empty()) {
-        if (++drain > static_cast<uint64_t>(latency_) + 1) break;
+      if (exhausted && replay.empty()) {
+        if (++drain > static_cast<uint64_t>(sb_.latency()) + 1) break;
       }
       if (o_.progress && (t & 0xffff) == 0) {
         const auto now = std::chrono::steady_clock::now();
         if (now - last_progress > std::chrono::seconds(5)) {
           last_progress = now;
-          std::cerr << "[" << o_.test << "] cycle " << t << ", " << st_.issued << " issued";
+          std::cerr << "[" << o_.test << "] cycle " << t << ", " << st.issued << " issued";
           if (src_.total()) std::cerr << " of " << src_.total();
-          std::cerr << ", " << st_.errors.size() << " errors\n";
+          std::cerr << ", " << st.errors.size() << " errors\n";
         }
       }
     }
-    if (tracing_) dut_.trace_close();
-    st_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    st_.cpu_seconds = thread_cpu() - c0;
-    if (o_.check && !st_.aborted && st_.checked + st_.dropped != st_.issued && o_.stop_after_cycle == ~0ull) {
+    if (tracing) dut_.trace_close();
+    st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    st.cpu_seconds = thread_cpu() - c0;
+    if (o_.check && !st.aborted && st.checked + st.dropped != st.issued && o_.stop_after_cycle == ~0ull) {
       // Cannot happen unless the harness itself is broken: every issued item is either checked
       // or dropped by a reset (and replayed).
       throw std::logic_error("ru::tb::run: bookkeeping error (issued != checked + dropped)");
     }
-    return st_;
+    return st;
   }
 
  private:
   bool fetch(Record& r) {
-    if (!replay_.empty()) {
-      r = replay_.front();
-      replay_.pop_front();
+    std::deque<Record>& replay = sb_.dropped();
+    if (!replay.empty()) {
+      r = replay.front();
+      replay.pop_front();
       return true;
     }
     return src_.next(r);
   }
 
-  void drive_junk() {
-    Record j;
-    for (size_t i = 0; i < ins_.size(); ++i) j.v[i] = junk_.next() & ins_[i].mask();
-    ad_.drive(j);
-  }
-
-  void reset_cycle(uint64_t t, bool initial) {
-    ++st_.resets;
-    if (!initial) last_reset_ = t;
-    rst_.set(o_.inject.skip_reset && !initial ? 1 : 0);
-    // Inputs presented while rst_ni = 0 must be dropped by the DUT: present one every cycle.
-    in_valid_.set(1);
-    drive_junk();
-    for (Slot& s : ring_) {
-      if (s.valid) {
-        replay_.push_back(s.in);
-        ++st_.dropped;
-        s.valid = false;
-      }
-    }
-  }
-
-  void check(uint64_t t) {
-    const Slot& s = ring_[(t + 1) % ring_.size()];  // the slot of cycle t - latency
-    const bool dv = out_valid_.get() != 0;
-    if (!s.valid) {
-      if (dv) report(t, s, Mismatch::UnexpectedValid, 0, nullptr);
-      return;
-    }
-    ++st_.checked;  // its result was due now (and is right or reported)
-    if (!dv) {
-      report(t, s, Mismatch::MissingValid, 0, nullptr);
-      return;
-    }
-    ad_.read(act_);
-    uint32_t diff = 0;
-    for (size_t i = 0; i < outs_.size(); ++i) {
-      if (((act_.v[i] ^ s.exp.v[i]) & outs_[i].mask()) != 0) diff |= 1u << i;
-    }
-    if (diff) report(t, s, Mismatch::Data, diff, &act_);
-  }
-
-  std::string field_line(const FieldInfo& f, uint64_t v) const {
-    return hex(v & f.mask(), f.bits) + " (" + ad_.decimal(f, v & f.mask()) + ")";
-  }
-
-  void report(uint64_t t, const Slot& s, Mismatch::Kind kind, uint32_t diff, const Record* act) {
-    std::ostringstream os;
-    os << "[" << o_.test << "] MISMATCH at cycle " << t << " (trace time " << 10 * t
-       << "): seed=" << o_.seed << ", " << ad_.describe();
-    if (!o_.format.empty() && ad_.describe().find(o_.format) == std::string::npos) os << ", format " << o_.format;
-    os << ", Stages=" << o_.stages << "\n";
-    if (kind == Mismatch::UnexpectedValid) {
-      os << "  out_valid_o = 1, but no input was issued in cycle "
-         << (t >= static_cast<uint64_t>(latency_) ? std::to_string(t - latency_) : std::string("< 0"))
-         << " (" << latency_ << " cycles earlier"
-         << (latency_ != o_.stages ? ", the expected latency" : "") << ")";
-      if (last_reset_ != ~0ull) os << "; last reset in cycle " << last_reset_ << " (stale result?)";
-      os << "\n  output (don't-care data shown):";
-      Record a;
-      ad_.read(a);
-      for (size_t i = 0; i < outs_.size(); ++i) os << " " << outs_[i].name << "=" << field_line(outs_[i], a.v[i]);
-      os << "\n";
-    } else {
-      os << "  input #" << s.item << " issued in cycle " << s.cycle << ":\n";
-      for (size_t i = 0; i < ins_.size(); ++i)
-        os << "    " << ins_[i].name << " = " << field_line(ins_[i], s.in.v[i]) << "\n";
-      if (kind == Mismatch::MissingValid) {
-        os << "  out_valid_o = 0, but the result of that input is due now; expected:";
-        for (size_t i = 0; i < outs_.size(); ++i) os << " " << outs_[i].name << "=" << field_line(outs_[i], s.exp.v[i]);
-        os << "\n";
-      } else {
-        for (size_t i = 0; i < outs_.size(); ++i) {
-          os << "    " << outs_[i].name << ": expected " << field_line(outs_[i], s.exp.v[i]) << ", actual "
-             << field_line(outs_[i], act->v[i]);
-          if (diff & (1u << i)) os << "   <-- differs (xor " << hex((s.exp.v[i] ^ act->v[i]) & outs_[i].mask(), outs_[i].bits) << ")";
-          os << "\n";
-        }
-      }
-    }
-    if (!o_.rerun_hint.empty()) os << "  rerun: " << o_.rerun_hint << "\n";
-    Mismatch m;
-    m.kind = kind;
-    m.cycle = t;
-    m.item = kind == Mismatch::UnexpectedValid ? -1 : s.item;
-    m.field_mask = diff;
-    m.report = os.str();
-    if (!o_.quiet) std::cerr << m.report << std::flush;
-    st_.errors.push_back(std::move(m));
-  }
-
   Dut& dut_;
-  UnitAdapter& ad_;
   VectorSource& src_;
   const RunOptions& o_;
-  const std::vector<FieldInfo>& ins_;
-  const std::vector<FieldInfo>& outs_;
-  int latency_;
   TrafficGen traffic_;
-  Rng junk_;
-  Port clk_, rst_, in_valid_, out_valid_;
-  std::vector<Slot> ring_;
-  std::deque<Record> replay_;
-  Record act_;
-  RunStats st_;
-  bool tracing_ = false;
-  uint64_t last_reset_ = ~0ull;
+  Scoreboard sb_;
 };
 
 }  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Scoreboard
+
+Scoreboard::Scoreboard(Dut& dut, UnitAdapter& ad, const RunOptions& o)
+    : dut_(dut),
+      ad_(ad),
+      o_(o),
+      ins_(ad.inputs()),
+      outs_(ad.outputs()),
+      latency_(o.stages + o.inject.latency_delta),
+      junk_(mix_seed(o.seed, o.test + "#junk")) {
+  if (latency_ < 0) throw std::invalid_argument("ru::tb::run: negative expected latency");
+  if (ins_.size() > kMaxFields || outs_.size() > kMaxFields)
+    throw std::invalid_argument("ru::tb::run: more than kMaxFields fields in a record");
+  const PortMap& pm = dut.ports();
+  clk_ = pm.get("clk_i");
+  rst_ = pm.get("rst_ni");
+  in_valid_ = pm.get("in_valid_i");
+  out_valid_ = pm.get("out_valid_o");
+  ad_.bind(pm);
+  ring_.resize(static_cast<size_t>(latency_) + 1);
+}
+
+void Scoreboard::advance_to(uint64_t t) {
+  if (t < next_) throw std::logic_error("ru::tb::Scoreboard: cycle " + std::to_string(t) + " after cycle " +
+                                        std::to_string(next_ - 1));
+  if (t > next_ && in_flight_ > 0)
+    throw std::logic_error("ru::tb::Scoreboard: cycles skipped while results are in flight");
+  next_ = t + 1;
+}
+
+void Scoreboard::drive_junk() {
+  Record j;
+  for (size_t i = 0; i < ins_.size(); ++i) j.v[i] = junk_.next() & ins_[i].mask();
+  ad_.drive(j);
+}
+
+void Scoreboard::edge(uint64_t t) {
+  clk_.set(0);
+  dut_.eval();
+  if (tracing_ && t >= o_.trace_from) dut_.trace_dump(10 * t);
+}
+
+void Scoreboard::reset(uint64_t t, bool initial) {
+  advance_to(t);
+  ++st_.resets;
+  if (!initial) last_reset_ = t;
+  rst_.set(o_.inject.skip_reset && !initial ? 1 : 0);
+  // Inputs presented while rst_ni = 0 must be dropped by the DUT: present one every cycle.
+  in_valid_.set(1);
+  drive_junk();
+  for (Slot& s : ring_) {
+    if (s.valid) {
+      replay_.push_back(s.in);
+      ++st_.dropped;
+      s.valid = false;
+      --in_flight_;
+    }
+  }
+  edge(t);
+  clk_.set(1);
+  dut_.eval();
+  if (tracing_ && t >= o_.trace_from) dut_.trace_dump(10 * t + 5);
+}
+
+bool Scoreboard::cycle(uint64_t t, const Record* in, const Record* exp) {
+  advance_to(t);
+  const size_t errors = st_.errors.size();
+  Slot& s = ring_[t % ring_.size()];
+  if (s.valid) throw std::logic_error("ru::tb::Scoreboard: a result slot was not retired");
+  rst_.set(1);
+  if (in) {
+    in_valid_.set(1);
+    ad_.drive(*in);
+    if (o_.check) {
+      s.valid = true;
+      ++in_flight_;
+      s.item = static_cast<int64_t>(st_.issued);
+      s.cycle = t;
+      s.in = *in;
+      if (exp)
+        s.exp = *exp;
+      else
+        ad_.model(s.in, s.exp);
+      if (s.item == o_.inject.flip_item) s.exp.v[o_.inject.flip_field] ^= 1ull << o_.inject.flip_bit;
+    }
+    ++st_.issued;
+  } else {
+    in_valid_.set(0);
+    drive_junk();
+  }
+  edge(t);
+  if (o_.check) check(t);
+  clk_.set(1);
+  dut_.eval();
+  if (tracing_ && t >= o_.trace_from) dut_.trace_dump(10 * t + 5);
+  return st_.errors.size() == errors;
+}
+
+void Scoreboard::check(uint64_t t) {
+  Slot& s = ring_[(t + 1) % ring_.size()];  // the slot of cycle t - latency
+  const bool dv = out_valid_.get() != 0;
+  if (!s.valid) {
+    if (dv) report(t, s, Mismatch::UnexpectedValid, 0, nullptr);
+    return;
+  }
+  s.valid = false;
+  --in_flight_;
+  ++st_.checked;  // its result was due now (and is right or reported)
+  if (!dv) {
+    report(t, s, Mismatch::MissingValid, 0, nullptr);
+    return;
+  }
+  ad_.read(act_);
+  uint32_t diff = 0;
+  for (size_t i = 0; i < outs_.size(); ++i) {
+    if (((act_.v[i] ^ s.exp.v[i]) & outs_[i].mask()) != 0) diff |= 1u << i;
+  }
+  if (diff) report(t, s, Mismatch::Data, diff, &act_);
+}
+
+std::string Scoreboard::field_line(const FieldInfo& f, uint64_t v) const {
+  return hex(v & f.mask(), f.bits) + " (" + ad_.decimal(f, v & f.mask()) + ")";
+}
+
+void Scoreboard::report(uint64_t t, const Slot& s, Mismatch::Kind kind, uint32_t diff, const Record* act) {
+  std::ostringstream os;
+  const uint64_t b = o_.report_cycle_base;
+  os << "[" << o_.test << "] MISMATCH at cycle " << t - b << " (trace time " << 10 * t << "): seed=" << o_.seed
+     << ", " << ad_.describe();
+  if (!o_.format.empty() && ad_.describe().find(o_.format) == std::string::npos) os << ", format " << o_.format;
+  os << ", Stages=" << o_.stages << "\n";
+  if (kind == Mismatch::UnexpectedValid) {
+    os << "  out_valid_o = 1, but no input was issued in cycle "
+       << (t >= b + static_cast<uint64_t>(latency_) ? std::to_string(t - b - latency_) : std::string("< 0")) << " ("
+       << latency_ << " cycles earlier" << (latency_ != o_.stages ? ", the expected latency" : "") << ")";
+    if (last_reset_ != ~0ull) os << "; last reset in cycle " << last_reset_ - b << " (stale result?)";
+    os << "\n  output (don't-care data shown):";
+    Record a;
+    ad_.read(a);
+    for (size_t i = 0; i < outs_.size(); ++i) os << " " << outs_[i].name << "=" << field_line(outs_[i], a.v[i]);
+    os << "\n";
+  } else {
+    os << "  input #" << s.item << " issued in cycle " << s.cycle - b << ":\n";
+    if (o_.item_context) os << o_.item_context(s.item);
+    for (size_t i = 0; i < ins_.size(); ++i)
+      os << "    " << ins_[i].name << " = " << field_line(ins_[i], s.in.v[i]) << "\n";
+    if (kind == Mismatch::MissingValid) {
+      os << "  out_valid_o = 0, but the result of that input is due now; expected:";
+      for (size_t i = 0; i < outs_.size(); ++i) os << " " << outs_[i].name << "=" << field_line(outs_[i], s.exp.v[i]);
+      os << "\n";
+    } else {
+      for (size_t i = 0; i < outs_.size(); ++i) {
+        os << "    " << outs_[i].name << ": expected " << field_line(outs_[i], s.exp.v[i]) << ", actual "
+           << field_line(outs_[i], act->v[i]);
+        if (diff & (1u << i))
+          os << "   <-- differs (xor " << hex((s.exp.v[i] ^ act->v[i]) & outs_[i].mask(), outs_[i].bits) << ")";
+        os << "\n";
+      }
+    }
+  }
+  if (!o_.rerun_hint.empty()) os << "  rerun: " << o_.rerun_hint << "\n";
+  Mismatch m;
+  m.kind = kind;
+  m.cycle = t;
+  m.item = kind == Mismatch::UnexpectedValid ? -1 : s.item;
+  m.field_mask = diff;
+  m.report = os.str();
+  if (!o_.quiet) std::cerr << m.report << std::flush;
+  st_.errors.push_back(std::move(m));
+}
 
 RunStats run(Dut& dut, UnitAdapter& adapter, VectorSource& src, const RunOptions& opt) {
   Runner r(dut, adapter, src, opt);

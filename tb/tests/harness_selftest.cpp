@@ -179,6 +179,54 @@ TEST(TbHarness, StopsAfterMaxErrorsAndReportsInputsExpectedActual) {
     EXPECT_NE(r.find(s), std::string::npos) << s << " missing in:\n" << r;
 }
 
+// The step-wise scoreboard (the TRaX co-simulation's): caller-chosen cycles with gaps while
+// nothing is in flight, caller-supplied expected outputs, context lines in the report, and the
+// report cycle base.
+TEST(TbScoreboard, StepWiseWithGapsSuppliedExpectationsAndContext) {
+  Format f = Format::parse("e5m10");
+  for (const bool plant : {false, true}) {
+    SoftPipe dut(f, 3, Bug::None);
+    FpAdapter ad(*fp_unit_spec("fp_mul"), f, 3);
+    RunOptions o;
+    o.test = "step";
+    o.stages = 3;
+    o.quiet = true;
+    o.report_cycle_base = 100;
+    o.item_context = [](int64_t item) { return "  from work item " + std::to_string(item) + "\n"; };
+    Scoreboard sb(dut, ad, o);
+    for (uint64_t c = 0; c < 3; ++c) sb.reset(c, true);
+    auto src = fp_random_source(*fp_unit_spec("fp_mul"), f, 7, 40);
+    uint64_t t = 100;  // a gap of 97 cycles: nothing is in flight
+    Record in, exp;
+    for (int i = 0; src->next(in); ++i) {
+      ad.model(in, exp);
+      if (plant && i == 17) exp.v[0] ^= 1;
+      sb.cycle(t++, &in, &exp);
+      if (i % 10 == 9) {  // drain, then skip ahead
+        while (sb.busy()) sb.cycle(t++, nullptr);
+        t += 50;
+      }
+    }
+    while (sb.busy()) sb.cycle(t++, nullptr);
+    EXPECT_EQ(sb.stats().checked, 40u);
+    if (!plant) {
+      EXPECT_TRUE(sb.stats().ok()) << sb.stats().errors[0].report;
+      // skipping cycles with results in flight is a harness misuse, not a silent pass
+      sb.cycle(t++, &in, &exp);
+      EXPECT_THROW(sb.cycle(t + 5, nullptr), std::logic_error);
+      continue;
+    }
+    ASSERT_EQ(sb.stats().errors.size(), 1u);
+    const Mismatch& m = sb.stats().errors[0];
+    EXPECT_EQ(m.kind, Mismatch::Data);
+    EXPECT_EQ(m.item, 17);
+    // item 17 is the 8th of the second group of 10, issued at 100 + 10 + 3 + 50 + 7 = 170
+    EXPECT_NE(m.report.find("input #17 issued in cycle 70:"), std::string::npos) << m.report;
+    EXPECT_NE(m.report.find("MISMATCH at cycle 73 "), std::string::npos) << m.report;
+    EXPECT_NE(m.report.find("  from work item 17\n"), std::string::npos) << m.report;
+  }
+}
+
 TEST(TbPort, WideAndNarrowPortsRoundTrip) {
   uint32_t words[6] = {};
   Port p(words, 190);

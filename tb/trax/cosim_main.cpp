@@ -5,17 +5,23 @@
 //   tb_trax_cosim --list    print the RTL configurations linked into this executable
 //
 // One Verilated RTL instance per (TM, unit class, issue slot), created (and reset for 3 cycles)
-// at its first operation. Every instance follows the scoreboard contract of tb/README.md: in
-// simulated cycle t it drives in_valid_i and the inputs of the operation issued in cycle t (or
-// in_valid_i = 0), evaluates with clk_i = 0, checks the outputs, then gives the rising edge.
-// out_valid_o must be 1 exactly in the cycle issue + Stages (= the latency the timing model
-// used: the configuration check guarantees Stages == latency), and then every output bit must
-// equal the golden model's output sent with the operation. While an instance has operations in
-// flight it is clocked every cycle; an instance with an empty pipeline skips idle cycles (its
-// valid pipeline is all zeros, so no result can be lost or invented in them).
+// at its first operation, each run by the shared scoreboard (ru::tb::Scoreboard, the one the
+// unit testbenches use; contract in tb/README.md) through the registry's adapter
+// (ru::tb::RegistryAdapter: ports, fields and widths from the unit registry). In simulated cycle t
+// the scoreboard drives in_valid_i and the inputs of the operation issued in cycle t (or
+// in_valid_i = 0 and junk inputs), evaluates with clk_i = 0, checks the outputs, then gives the
+// rising edge. out_valid_o must be 1 exactly in the cycle issue + Stages (= the latency the
+// timing model used: the configuration check guarantees Stages == latency), and then every
+// output bit must equal the golden model's output sent with the operation (outputs the operand
+// record does not carry, the triangle units' vol_o, are compared with the registry's model).
+// While an instance has operations in flight it is clocked every cycle; an instance with an
+// empty pipeline skips idle cycles (its valid pipeline is all zeros, so no result can be lost
+// or invented in them). The operand records' word layout is trax::unit_words (thread.hpp),
+// mapped onto the registry's fields by port name and checked against them.
 #include <cinttypes>
 #include <cstdio>
 #include <cstdlib>
+#include <algorithm>
 #include <cstring>
 #include <deque>
 #include <map>
@@ -26,72 +32,54 @@
 #include <vector>
 
 #include "rayunits/num/format.hpp"
+#include "rayunits/synth/units.hpp"
 #include "rayunits/tb/dut.hpp"
+#include "rayunits/tb/harness.hpp"
+#include "rayunits/tb/registry_adapter.hpp"
 #include "rayunits/trax/cosim.hpp"
 #include "rayunits/trax/thread.hpp"
 
 using ru::tb::ConfigDesc;
-using ru::tb::Port;
 using ru::trax::Op;
 namespace cosim = ru::trax::cosim;
+namespace synth = ru::synth;
 
 namespace {
 
-struct Field {
-  const char* port;
-  int word;   // first data word
-  int n;      // 1 scalar or 3 (a vector packed {z, y, x}, x in the low W bits)
-  bool fp;    // a format value (printed in decimal too)
-  const char* name;
-};
-// Data words of each op (thread.hpp kBoxIn...): inputs, then outputs.
-const std::vector<Field> kBoxInF = {{"org_i", 0, 3, true, "o"},     {"rdir_i", 3, 3, true, "inv"},
-                                    {"bmin_i", 6, 3, true, "lo"},   {"bmax_i", 9, 3, true, "hi"},
-                                    {"tmin_i", 12, 1, true, "t_min"}, {"tmax_i", 13, 1, true, "t_max"}};
-const std::vector<Field> kBoxOutF = {
-    {"hit_o", 14, 1, false, "hit"}, {"t_enter_o", 15, 1, true, "t_enter"}, {"t_exit_o", 16, 1, true, "t_exit"}};
-const std::vector<Field> kTriInF = {{"a_i", 0, 3, true, "a"},         {"d_i", 3, 3, true, "d"},
-                                    {"p0_i", 6, 3, true, "p0"},       {"p1_i", 9, 3, true, "p1"},
-                                    {"p2_i", 12, 3, true, "p2"},      {"tmin_i", 15, 1, true, "t_min"},
-                                    {"tmax_i", 16, 1, true, "t_max"}};
-const std::vector<Field> kTriOutF = {{"hit_o", 17, 1, false, "hit"},   {"why_o", 18, 1, false, "why"},
-                                     {"t_o", 19, 1, true, "t"},        {"beta_o", 20, 1, true, "beta"},
-                                     {"gamma_o", 21, 1, true, "gamma"}};
-const std::vector<Field> kNoiseInF = {{"x_i", 0, 1, false, "x"}, {"y_i", 1, 1, false, "y"}, {"z_i", 2, 1, false, "z"}};
-const std::vector<Field> kNoiseOutF = {{"value_o", 3, 1, false, "value"}};
+// Every instance is reset for kResetCycles cycles of its own clock before its first operation;
+// its scoreboard numbers cycles as TRaX cycle + kResetCycles (reports show TRaX cycles).
+constexpr uint64_t kResetCycles = 3;
 
 struct UnitSel {
   Op op = Op::Box;
   const ConfigDesc* desc = nullptr;
   std::string algo;
   int latency = 0, slots = 0;
-  const std::vector<Field>* in = nullptr;
-  const std::vector<Field>* out = nullptr;
   std::string rtl;  // "ray_tri_robust e8m23_s29"
-};
-
-struct Pending {
-  uint64_t due;
-  cosim::Record rec;
-  std::vector<uint64_t> w;
+  const synth::UnitSpec* spec = nullptr;
+  synth::UnitConfig cfg;
+  // The operand record's word of every registry input / output field (fields_for order);
+  // -1 for an output the record does not carry (its expected value is the registry's model).
+  std::vector<int> in_word, out_word;
 };
 
 struct Inst {
   const UnitSel* u = nullptr;
   int tm = 0, slot = 0;
   std::unique_ptr<ru::tb::Dut> dut;
-  Port clk, rst, in_valid, out_valid;
-  std::vector<Port> in, out;
-  uint64_t now = 0;  // next cycle to simulate
-  std::deque<Pending> q;
+  std::unique_ptr<ru::tb::RegistryAdapter> ad;
+  ru::tb::RunOptions opt;
+  std::unique_ptr<ru::tb::Scoreboard> sb;
+  uint64_t now = 0;                  // next TRaX cycle to simulate
+  std::deque<cosim::Record> issued;  // the operations issued, by issue index - first
+  int64_t first = 0;
 };
 
 ru::num::Format g_fmt;
-int g_w = 32;
 std::map<Op, UnitSel> g_units;
-std::vector<std::unique_ptr<Inst>> g_inst;  // index: (op, tm, slot)
-std::map<std::tuple<int, int, int>, Inst*> g_by_key;
-uint64_t g_compared = 0, g_by_op[3] = {0, 0, 0}, g_rtl_cycles = 0;
+std::vector<std::unique_ptr<Inst>> g_inst;
+std::map<std::tuple<int, int, int>, Inst*> g_by_key;  // (op, tm, slot)
+uint64_t g_rtl_cycles = 0;
 // Planted timing error for the tests: $RU_TRAX_COSIM_LATENCY_DELTA = d expects every result d
 // cycles later than the latency (the out_valid_o check must catch it).
 int g_latency_delta = 0;
@@ -106,114 +94,73 @@ void reply(const std::string& s) {
   std::exit(2);
 }
 
-std::string hex(uint64_t v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "0x%" PRIx64, v);
-  return b;
-}
-std::string value_text(const Field& f, uint64_t v) {
-  if (!f.fp) return hex(v) + " (" + std::to_string(v) + ")";
-  char b[64];
-  std::snprintf(b, sizeof b, "%s (%.9g)", hex(v).c_str(), ru::num::to_double(g_fmt, v));
-  return b;
-}
-std::string field_text(const Field& f, const uint64_t* w) {
-  if (f.n == 1) return value_text(f, w[f.word]);
-  return "(" + value_text(f, w[f.word]) + ", " + value_text(f, w[f.word + 1]) + ", " + value_text(f, w[f.word + 2]) +
-         ")";
-}
-
-// Packs the field's values into little-endian 64-bit words for Port::set_words.
-void drive(Port& p, const Field& f, const uint64_t* w) {
-  uint64_t words[4] = {0, 0, 0, 0};
-  const int width = f.n == 1 ? p.bits() : g_w;
-  for (int k = 0; k < f.n; ++k) {
-    const uint64_t v = w[f.word + k] & (width >= 64 ? ~0ull : ((1ull << width) - 1));
-    const int bit = k * width;
-    words[bit / 64] |= v << (bit % 64);
-    if (bit % 64 && bit % 64 + width > 64) words[bit / 64 + 1] |= v >> (64 - bit % 64);
-  }
-  p.set_words(words, 4);
-}
-void read_field(const Port& p, const Field& f, uint64_t* vals) {
-  uint64_t words[4] = {0, 0, 0, 0};
-  p.get_words(words);
-  const int width = f.n == 1 ? p.bits() : g_w;
-  const uint64_t m = width >= 64 ? ~0ull : ((1ull << width) - 1);
-  for (int k = 0; k < f.n; ++k) {
-    const int bit = k * width;
-    uint64_t v = words[bit / 64] >> (bit % 64);
-    if (bit % 64 && bit % 64 + width > 64) v |= words[bit / 64 + 1] << (64 - bit % 64);
-    vals[k] = v & m;
-  }
-}
-
 const char* op_label(Op op) { return op == Op::Box ? "BOX" : op == Op::Tri ? "TRI" : "NOISE"; }
 
-[[noreturn]] void mismatch(const Inst& in, uint64_t cycle, const Pending* p, const std::string& what,
-                           const std::vector<uint64_t>* rtl) {
+uint64_t compared() {
+  uint64_t n = 0;
+  for (const auto& p : g_inst) n += p->sb->stats().checked;
+  return n;
+}
+
+// The scoreboard found a mismatch in the last cycle of `in`: print it and end.
+[[noreturn]] void mismatch(const Inst& in) {
+  const ru::tb::Mismatch& m = in.sb->stats().errors.front();
   std::ostringstream o;
-  o << "MISMATCH in cycle " << cycle << ": " << what << "\n";
-  if (p) {
-    const cosim::Record& r = p->rec;
-    o << "  operation: " << op_label(static_cast<Op>(r.op)) << " issued in cycle " << r.cycle << " by TM " << r.tm
-      << ", TP " << r.tp << " (work item " << r.item << ", instruction #" << r.index << " of its stream), unit slot "
-      << r.slot << ", RTL " << in.u->rtl << " (latency " << in.u->latency << ")\n";
-    for (const Field& f : *in.u->in) o << "  in  " << f.name << " = " << field_text(f, p->w.data()) << "\n";
-    for (const Field& f : *in.u->out) {
-      o << "  out " << f.name << ": golden " << field_text(f, p->w.data());
-      if (rtl) {
-        const uint64_t got = (*rtl)[f.word];
-        o << ", RTL " << value_text(f, got);
-        if (got != p->w[f.word]) o << "  <-- differs (xor " << hex(got ^ p->w[f.word]) << ")";
-      }
-      o << "\n";
+  o << "MISMATCH in cycle " << m.cycle - kResetCycles << ": ";
+  switch (m.kind) {
+    case ru::tb::Mismatch::Data: {
+      o << "RTL output";
+      const auto& outs = in.ad->outputs();
+      for (size_t i = 0; i < outs.size(); ++i)
+        if (m.field_mask & (1u << i)) o << " " << outs[i].name;
+      o << " differs from the golden model";
+      break;
     }
-  } else {
-    o << "  RTL " << in.u->rtl << " of TM " << in.tm << ", unit slot " << in.slot << "\n";
+    case ru::tb::Mismatch::MissingValid: o << "out_valid_o = 0 when the result is due (issue + latency)"; break;
+    case ru::tb::Mismatch::UnexpectedValid: o << "out_valid_o = 1 but no result is due in this cycle"; break;
   }
-  o << "  (" << g_compared << " operations compared equal before this one)";
+  o << "\n  RTL " << in.u->rtl << " of TM " << in.tm << ", unit slot " << in.slot << " (latency " << in.u->latency
+    << ")\n"
+    << m.report << "  (" << compared() - (m.kind == ru::tb::Mismatch::UnexpectedValid ? 0 : 1)
+    << " operations compared equal before this one)";
   reply(o.str());
   std::exit(1);
 }
 
-// Simulates cycle `t` of an instance, issuing `p` (may be null) in it.
-void step(Inst& in, uint64_t t, Pending* issue) {
-  if (issue) {
-    const uint64_t* w = issue->w.data();
-    for (size_t i = 0; i < in.in.size(); ++i) drive(in.in[i], (*in.u->in)[i], w);
-    in.in_valid.set(1);
-    issue->due = t + static_cast<uint64_t>(in.u->latency + g_latency_delta);
-    in.q.push_back(std::move(*issue));
-  } else {
-    in.in_valid.set(0);
-  }
-  in.clk.set(0);
-  in.dut->eval();
-  const bool v = in.out_valid.get() != 0;
-  if (!in.q.empty() && in.q.front().due == t) {
-    Pending& p = in.q.front();
-    // read every output into a word vector laid out like the golden words
-    std::vector<uint64_t> got(p.w.size(), 0);
-    for (size_t i = 0; i < in.out.size(); ++i) {
-      const Field& f = (*in.u->out)[i];
-      read_field(in.out[i], f, &got[f.word]);
+// Simulates TRaX cycle `t` of an instance, issuing the operation `r` with words `w` in it (null:
+// nothing issued).
+void step(Inst& in, uint64_t t, const cosim::Record* r, const uint64_t* w) {
+  bool ok;
+  if (r) {
+    const UnitSel& u = *in.u;
+    ru::tb::Record rec{}, exp{};
+    for (size_t i = 0; i < u.in_word.size(); ++i) rec.v[i] = w[u.in_word[i]];
+    in.ad->model(rec, exp);  // outputs the record does not carry
+    const auto& outs = in.ad->outputs();
+    for (size_t i = 0; i < u.out_word.size(); ++i)
+      if (u.out_word[i] >= 0) exp.v[i] = w[u.out_word[i]] & outs[i].mask();
+    in.issued.push_back(*r);
+    while (in.issued.size() > static_cast<size_t>(2 * (in.sb->latency() + 2))) {
+      in.issued.pop_front();
+      ++in.first;
     }
-    if (!v) mismatch(in, t, &p, "out_valid_o = 0 when the result is due (issue + latency)", nullptr);
-    for (const Field& f : *in.u->out)
-      for (int k = 0; k < f.n; ++k)
-        if (got[f.word + k] != p.w[f.word + k])
-          mismatch(in, t, &p, std::string("RTL output ") + f.port + " differs from the golden model", &got);
-    ++g_compared;
-    ++g_by_op[p.rec.op - static_cast<int>(Op::Box)];
-    in.q.pop_front();
-  } else if (v) {
-    mismatch(in, t, nullptr, "out_valid_o = 1 but no result is due in this cycle", nullptr);
+    ok = in.sb->cycle(t + kResetCycles, &rec, &exp);
+  } else {
+    ok = in.sb->cycle(t + kResetCycles, nullptr);
   }
-  in.clk.set(1);
-  in.dut->eval();
   in.now = t + 1;
   ++g_rtl_cycles;
+  if (!ok) mismatch(in);
+}
+
+std::string item_context(const Inst& in, int64_t item) {
+  if (item < in.first || item >= in.first + static_cast<int64_t>(in.issued.size())) return "";
+  const cosim::Record& r = in.issued[static_cast<size_t>(item - in.first)];
+  std::ostringstream o;
+  o << "  operation: " << op_label(static_cast<Op>(r.op)) << " issued in cycle " << r.cycle << " by TM " << r.tm
+    << ", TP " << r.tp << " (work item " << r.item << ", instruction #" << r.index << " of its stream), unit slot "
+    << r.slot << ", RTL " << in.u->rtl << " (latency " << in.u->latency << ")\n";
+  return o.str();
 }
 
 Inst& instance(Op op, int tm, int slot, uint64_t cycle) {
@@ -221,31 +168,24 @@ Inst& instance(Op op, int tm, int slot, uint64_t cycle) {
   auto it = g_by_key.find(key);
   if (it != g_by_key.end()) return *it->second;
   auto in = std::make_unique<Inst>();
+  Inst* raw = in.get();
   in->u = &g_units.at(op);
   in->tm = tm;
   in->slot = slot;
   ru::tb::DutOptions o;
   o.seed = 1 + g_inst.size();
   in->dut = in->u->desc->make(o);
-  const auto& pm = in->dut->ports();
-  in->clk = pm.get("clk_i");
-  in->rst = pm.get("rst_ni");
-  in->in_valid = pm.get("in_valid_i");
-  in->out_valid = pm.get("out_valid_o");
-  for (const Field& f : *in->u->in) in->in.push_back(pm.get(f.port));
-  for (const Field& f : *in->u->out) in->out.push_back(pm.get(f.port));
-  // reset: 3 cycles with rst_ni = 0
-  in->in_valid.set(0);
-  in->rst.set(0);
-  for (int i = 0; i < 3; ++i) {
-    in->clk.set(0);
-    in->dut->eval();
-    in->clk.set(1);
-    in->dut->eval();
-  }
-  in->rst.set(1);
+  in->ad = std::make_unique<ru::tb::RegistryAdapter>(*in->u->spec, in->u->cfg);
+  in->opt.test = "trax-cosim";
+  in->opt.seed = o.seed;
+  in->opt.stages = in->u->latency;
+  in->opt.inject.latency_delta = g_latency_delta;
+  in->opt.quiet = true;
+  in->opt.report_cycle_base = kResetCycles;
+  in->opt.item_context = [raw](int64_t item) { return item_context(*raw, item); };
+  in->sb = std::make_unique<ru::tb::Scoreboard>(*in->dut, *in->ad, in->opt);
+  for (uint64_t c = 0; c < kResetCycles; ++c) in->sb->reset(c, true);
   in->now = cycle;
-  Inst* raw = in.get();
   g_inst.push_back(std::move(in));
   g_by_key[key] = raw;
   return *raw;
@@ -255,13 +195,48 @@ Inst& instance(Op op, int tm, int slot, uint64_t cycle) {
 void advance_all(uint64_t t) {
   for (auto& p : g_inst) {
     Inst& in = *p;
-    while (in.now < t && !in.q.empty()) step(in, in.now, nullptr);
+    while (in.now < t && in.sb->busy()) step(in, in.now, nullptr, nullptr);
     if (in.now < t) in.now = t;
   }
 }
 
 bool read_exact(void* p, size_t n) {
   return std::fread(p, 1, n, stdin) == n;
+}
+
+// Maps the operand record's words (trax::unit_words) onto the registry's fields of the unit.
+void map_words(UnitSel& u) {
+  std::map<std::string, int> first, count;
+  int w = 0;
+  for (const ru::trax::UnitWords& x : ru::trax::unit_words(u.op)) {
+    first[x.port] = w;
+    count[x.port] = x.n;
+    w += x.n;
+  }
+  if (w != ru::trax::unit_inputs(u.op) + ru::trax::unit_outputs(u.op))
+    fail_line(std::string("trax::unit_words(") + op_label(u.op) + ") does not cover the operand record");
+  for (const synth::PortDir dir : {synth::PortDir::In, synth::PortDir::Out}) {
+    std::vector<int>& words = dir == synth::PortDir::In ? u.in_word : u.out_word;
+    std::map<std::string, int> seen;
+    for (const synth::Field& f : synth::fields_for(*u.spec, u.cfg, dir)) {
+      auto it = first.find(f.port);
+      if (it == first.end()) {
+        if (dir == synth::PortDir::In) fail_line(u.rtl + ": the operand record has no word for input " + f.name);
+        words.push_back(-1);
+        continue;
+      }
+      ++seen[f.port];
+      words.push_back(it->second + f.elem);
+    }
+    for (const auto& [port, n] : seen)
+      if (n != count[port])
+        fail_line(u.rtl + ": port " + port + " has " + std::to_string(n) + " elements in the registry, the operand record " +
+                  std::to_string(count[port]));
+  }
+  for (const auto& [port, n] : count)
+    if (std::find(u.in_word.begin(), u.in_word.end(), first[port]) == u.in_word.end() &&
+        std::find(u.out_word.begin(), u.out_word.end(), first[port]) == u.out_word.end())
+      fail_line(u.rtl + ": the operand record's port " + port + " is not a data port of the unit");
 }
 
 const ConfigDesc* find(const std::string& unit, const std::map<std::string, int64_t>& want, std::string& have) {
@@ -303,7 +278,6 @@ void configure(const std::string& header) {
   } catch (const std::exception& e) {
     fail_line(e.what());
   }
-  g_w = g_fmt.width();
   UnitSel box, tri, noise;
   box.op = Op::Box;
   tri.op = Op::Tri;
@@ -324,6 +298,13 @@ void configure(const std::string& header) {
       fail_line("no RTL build of " + what + " at latency (Stages) " + std::to_string(u.latency) +
                 " in tb_trax_cosim (built: " + have + "; add it to RU_TRAX_COSIM_* in tb/trax/CMakeLists.txt)");
     u.rtl = u.desc->full_name();
+    try {
+      u.spec = &synth::find_unit(u.desc->unit);
+      u.cfg = ru::tb::unit_config(*u.desc);
+    } catch (const std::exception& e) {
+      fail_line(u.rtl + ": " + e.what());
+    }
+    map_words(u);
   };
   if (box.algo != "plain" && box.algo != "conservative") fail_line("unknown box mode " + box.algo);
   {
@@ -343,12 +324,6 @@ void configure(const std::string& header) {
   if (noise.algo != "fixed")
     fail_line("chip.noise = " + noise.algo + " has no RTL (the noise unit implements noise = fixed)");
   pick(noise, "noise", {{"FracBits", 8}, {"IntBits", 8}, {"OutW", 10}}, "noise (FracBits 8, IntBits 8, OutW 10)");
-  box.in = &kBoxInF;
-  box.out = &kBoxOutF;
-  tri.in = &kTriInF;
-  tri.out = &kTriOutF;
-  noise.in = &kNoiseInF;
-  noise.out = &kNoiseOutF;
   g_units[Op::Box] = box;
   g_units[Op::Tri] = tri;
   g_units[Op::Noise] = noise;
@@ -371,8 +346,11 @@ int serve() {
     if (r.op == cosim::kEndOp) {
       advance_all(r.cycle + 1);
       for (auto& p : g_inst)
-        if (!p->q.empty())
-          mismatch(*p, r.cycle, &p->q.front(), "a result is due after the run's last cycle", nullptr);
+        if (p->sb->busy()) {
+          reply("MISMATCH in cycle " + std::to_string(r.cycle) + ": a result of RTL " + p->u->rtl + " of TM " +
+                std::to_string(p->tm) + ", unit slot " + std::to_string(p->slot) + " is due after the run's last cycle");
+          return 1;
+        }
       break;
     }
     if (r.cycle < last) fail_line("operations out of cycle order");
@@ -381,19 +359,19 @@ int serve() {
     if (op != Op::Box && op != Op::Tri && op != Op::Noise) fail_line("bad op in the stream");
     const int n = ru::trax::unit_inputs(op) + ru::trax::unit_outputs(op);
     if (r.nwords != n) fail_line("bad record length");
-    Pending p;
-    p.rec = r;
-    p.w.resize(n);
-    if (!read_exact(p.w.data(), sizeof(uint64_t) * n)) fail_line("truncated record");
+    words.resize(n);
+    if (!read_exact(words.data(), sizeof(uint64_t) * n)) fail_line("truncated record");
     const UnitSel& u = g_units.at(op);
     if (r.slot >= u.slots) fail_line("unit slot out of range");
     advance_all(r.cycle);
     Inst& in = instance(op, r.tm, r.slot, r.cycle);
     if (in.now != r.cycle) fail_line("two operations in one cycle on one unit slot");
-    step(in, r.cycle, &p);
+    step(in, r.cycle, &r, words.data());
   }
+  uint64_t by_op[3] = {0, 0, 0};
+  for (const auto& p : g_inst) by_op[static_cast<int>(p->u->op) - static_cast<int>(Op::Box)] += p->sb->stats().checked;
   std::ostringstream o;
-  o << "DONE compared=" << g_compared << " box=" << g_by_op[0] << " tri=" << g_by_op[1] << " noise=" << g_by_op[2]
+  o << "DONE compared=" << compared() << " box=" << by_op[0] << " tri=" << by_op[1] << " noise=" << by_op[2]
     << " rtl_instances=" << g_inst.size() << " rtl_cycles=" << g_rtl_cycles;
   reply(o.str());
   return 0;

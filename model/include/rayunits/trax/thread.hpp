@@ -79,6 +79,25 @@ inline int unit_inputs(Op op) { return op == Op::Box ? kBoxIn : op == Op::Tri ? 
 inline int unit_outputs(Op op) {
   return op == Op::Box ? kBoxOut : op == Op::Tri ? kTriOut : op == Op::Noise ? kNoiseOut : 0;
 }
+// The same layout by RTL data port (unit registry names, model/include/rayunits/synth/units.hpp):
+// each entry covers `n` consecutive words, the port's elements low first. The co-simulation maps
+// words to the registry's fields with it (and checks the counts against the registry); outputs
+// of the RTL that are not listed (the triangle units' vol_o) come from the registry's model.
+struct UnitWords {
+  const char* port;
+  int n;
+};
+inline const std::vector<UnitWords>& unit_words(Op op) {
+  static const std::vector<UnitWords> box = {{"org_i", 3}, {"rdir_i", 3}, {"bmin_i", 3}, {"bmax_i", 3},
+                                             {"tmin_i", 1}, {"tmax_i", 1}, {"hit_o", 1}, {"t_enter_o", 1},
+                                             {"t_exit_o", 1}};
+  static const std::vector<UnitWords> tri = {{"a_i", 3},    {"d_i", 3},    {"p0_i", 3},   {"p1_i", 3},
+                                             {"p2_i", 3},   {"tmin_i", 1}, {"tmax_i", 1}, {"hit_o", 1},
+                                             {"why_o", 1},  {"t_o", 1},    {"beta_o", 1}, {"gamma_o", 1}};
+  static const std::vector<UnitWords> noise = {{"x_i", 1}, {"y_i", 1}, {"z_i", 1}, {"value_o", 1}};
+  static const std::vector<UnitWords> none;
+  return op == Op::Box ? box : op == Op::Tri ? tri : op == Op::Noise ? noise : none;
+}
 
 struct Stream {
   std::vector<Instr> code;

@@ -34,6 +34,16 @@
 
 namespace ru::tb {
 
+// Small deterministic PRNG (xoshiro256**, seeded by splitmix64; rayunits/util/rng.hpp) used by
+// the harness and sources. Its streams are pinned by tests/util/test_rng.cpp (RngPin.*).
+class Rng : public util::Xoshiro256ss {
+ public:
+  using util::Xoshiro256ss::Xoshiro256ss;
+  uint64_t below(uint64_t n) { return util::bounded_lemire(*this, n); }  // uniform in [0, n), n > 0
+  bool chance(uint32_t num, uint32_t den) { return below(den) < num; }
+};
+using util::mix_seed;  // derive independent stream seeds: mix_seed(seed, salt)
+
 constexpr int kMaxFields = 24;  // per input or output record; each field is at most 64 bits
 
 struct Record {
@@ -126,6 +136,12 @@ struct RunOptions {
   bool quiet = false;                   // do not print mismatch reports (traced re-runs)
   std::string format;                   // printed in mismatch reports ("e8m23 rne")
   std::string rerun_hint;               // printed in mismatch reports (how to reproduce)
+  // Extra report lines for the item with this issue index (where it came from: the TRaX
+  // co-simulation names the cycle, TM, TP and instruction that issued it).
+  std::function<std::string(int64_t item)> item_context;
+  // Cycle numbers in reports are the scoreboard's cycle - report_cycle_base (the co-simulation
+  // resets each instance before TRaX cycle 0 and numbers its cycles TRaX cycle + 3).
+  uint64_t report_cycle_base = 0;
   Injection inject;
 };
 
@@ -149,17 +165,71 @@ struct RunStats {
 
 // Runs the stream from `src` through `dut` until the source is exhausted (plus a drain of
 // Stages+1 idle cycles) or max_errors mismatches. Prints mismatch reports on stderr.
+// Built on the Scoreboard below.
 RunStats run(Dut& dut, UnitAdapter& adapter, VectorSource& src, const RunOptions& opt);
 
-// Small deterministic PRNG (xoshiro256**, seeded by splitmix64; rayunits/util/rng.hpp) used by
-// the harness and sources. Its streams are pinned by tests/util/test_rng.cpp (RngPin.*).
-class Rng : public util::Xoshiro256ss {
+// The scoreboard one cycle at a time (the cycle contract above), for a caller that decides in
+// every cycle whether to reset, what to issue and, optionally, what the expected outputs are:
+// run() drives it from a VectorSource and its traffic generator, the TRaX co-simulation
+// (tb/trax/cosim_main.cpp) from the timing model's operation stream. Cycles are numbered by the
+// caller and strictly increase; cycles may be skipped only while nothing is in flight (the
+// pipeline's valid bits are all zero then, so no result can be lost or invented in them).
+class Scoreboard {
  public:
-  using util::Xoshiro256ss::Xoshiro256ss;
-  uint64_t below(uint64_t n) { return util::bounded_lemire(*this, n); }  // uniform in [0, n), n > 0
-  bool chance(uint32_t num, uint32_t den) { return below(den) < num; }
+  // Binds clk_i, rst_ni, in_valid_i, out_valid_o and the adapter's ports. Latency = opt.stages +
+  // opt.inject.latency_delta. `opt` must outlive the scoreboard.
+  Scoreboard(Dut& dut, UnitAdapter& adapter, const RunOptions& opt);
+
+  // Cycle t with rst_ni = 0 (or held high with opt.inject.skip_reset unless `initial`): an input
+  // is presented with in_valid_i = 1 (the DUT must drop it), outputs are not compared, and the
+  // items in flight are dropped (their inputs appended to dropped()).
+  void reset(uint64_t t, bool initial);
+  // Cycle t with rst_ni = 1: issues *in (nullptr: in_valid_i = 0 and junk on the data inputs)
+  // whose expected outputs are *exp (nullptr: the adapter's golden model), compares out_valid_o
+  // and the outputs due in cycle t, then gives the rising edge. Returns false if the cycle
+  // added a mismatch (stats().errors; printed on stderr unless opt.quiet).
+  bool cycle(uint64_t t, const Record* in, const Record* exp = nullptr);
+
+  bool busy() const { return in_flight_ > 0; }  // results still due
+  int latency() const { return latency_; }
+  std::deque<Record>& dropped() { return replay_; }  // inputs dropped by resets, to re-issue
+  RunStats& stats() { return st_; }
+  Rng& junk() { return junk_; }          // the junk stream (run() also draws its reset lengths)
+  void set_tracing(bool on) { tracing_ = on; }  // dump every cycle >= opt.trace_from
+
+ private:
+  struct Slot {
+    bool valid = false;
+    int64_t item = -1;
+    uint64_t cycle = 0;
+    Record in;
+    Record exp;
+  };
+  void advance_to(uint64_t t);
+  void drive_junk();
+  void check(uint64_t t);
+  void edge(uint64_t t);
+  std::string field_line(const FieldInfo& f, uint64_t v) const;
+  void report(uint64_t t, const Slot& s, Mismatch::Kind kind, uint32_t diff, const Record* act);
+
+  Dut& dut_;
+  UnitAdapter& ad_;
+  const RunOptions& o_;
+  const std::vector<FieldInfo>& ins_;
+  const std::vector<FieldInfo>& outs_;
+  int latency_;
+  Rng junk_;
+  Port clk_, rst_, in_valid_, out_valid_;
+  std::vector<Slot> ring_;
+  std::deque<Record> replay_;
+  Record act_;
+  RunStats st_;
+  uint64_t next_ = 0;  // the first cycle not yet simulated
+  int in_flight_ = 0;
+  bool tracing_ = false;
+  uint64_t last_reset_ = ~0ull;
 };
-using util::mix_seed;  // derive independent stream seeds: mix_seed(seed, salt)
+
 
 std::string hex(uint64_t v, int bits);  // "0x0003f800" with the field's digit count
 
