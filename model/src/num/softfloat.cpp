@@ -431,6 +431,27 @@ IntResult to_int(const Format& f, uint64_t a, Round r) {
   return {static_cast<int64_t>(mag), static_cast<uint8_t>(inexact ? kInexact : 0)};
 }
 
+IntResult to_int(const Format& f, uint64_t a, Round r, int int_w) {
+  if (int_w < 1 || int_w > 64) throw std::invalid_argument("ru::num::to_int: int_w must be 1..64");
+  const IntResult x = to_int(f, a, r);
+  if (int_w == 64) return x;
+  const int64_t hi = static_cast<int64_t>((1ull << (int_w - 1)) - 1), lo = -hi - 1;
+  if (x.value > hi) return {hi, kInvalid};  // NaN and +INF included (INT64_MAX)
+  if (x.value < lo) return {lo, kInvalid};
+  return x;
+}
+
+Result convert(const Format& to, const Format& from, uint64_t a) {
+  const Unpacked u = unpack(from, a);
+  switch (u.kind) {
+    case Unpacked::NaN: return nan_result(to, u.snan);
+    case Unpacked::Inf: return {to.inf() | (u.neg ? to.sign_bit() : 0), 0};
+    case Unpacked::Zero: return {signed_zero(to, u.neg), 0};
+    case Unpacked::Finite: break;
+  }
+  return round_pack(to, u.neg, u.exp, u.sig, false);
+}
+
 Class classify(const Format& f, uint64_t a) {
   const bool n = (a & f.sign_bit()) != 0;
   const uint64_t e = (a >> f.frac_bits) & f.exp_field_max();

@@ -126,6 +126,15 @@ struct IntResult {
 };
 // Rounds with mode r. NaN -> INT64_MAX, out of range -> saturated; both raise invalid only.
 IntResult to_int(const Format& f, uint64_t a, Round r);
+// The same for an int_w-bit two's complement integer (1 <= int_w <= 64): the value is rounded
+// first, then a result outside [-2^(int_w-1), 2^(int_w-1) - 1] saturates with invalid only
+// (NaN -> the largest value), as IEEE 754 convertToInteger with saturation (RISC-V fcvt.w).
+IntResult to_int(const Format& f, uint64_t a, Round r, int int_w);
+// Format-to-format conversion: a (a value of `from`; an FTZ `from` reads subnormals as zero)
+// rounded once into `to` (to.round, to.subnormals): overflow, underflow and inexact as for an
+// arithmetic result; NaN -> the canonical NaN of `to` (invalid if a was signaling); +-INF and
+// +-0 keep their sign. Exact when `to` holds every value of `from`.
+Result convert(const Format& to, const Format& from, uint64_t a);
 
 enum class Class : uint8_t {
   NegInf, NegNormal, NegSubnormal, NegZero, PosZero, PosSubnormal, PosNormal, PosInf, SNaN, QNaN
