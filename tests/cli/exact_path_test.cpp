@@ -12,6 +12,8 @@
 #include <sstream>
 #include <string>
 
+#include "../common/files.hpp"
+
 namespace {
 
 std::string bin() { return std::string(RU_BINARY_DIR) + "/model/cli/rayunits"; }
@@ -21,12 +23,7 @@ struct Out {
   std::string out, err;
 };
 
-std::string slurp(const std::string& p) {
-  std::ifstream f(p);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
+using ru::test::slurp;
 
 Out sh(const std::string& args) {
   const std::string base = std::string(RU_BINARY_DIR) + "/exact_path_test_" + std::to_string(::getpid());

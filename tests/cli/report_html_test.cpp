@@ -17,16 +17,13 @@
 #include "rayunits/report/report.hpp"
 #include "rayunits/util/process.hpp"
 
+#include "../common/files.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
+using ru::test::slurp;
 
 struct Dir : ru::test::TempDir {
   Dir() : TempDir("ru_report_html") {}

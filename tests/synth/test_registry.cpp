@@ -14,17 +14,14 @@
 
 #include "rayunits/synth/units.hpp"
 
+#include "../common/files.hpp"
+
 namespace {
 
 using namespace ru::synth;
 using ru::num::Format;
 
-std::string slurp(const std::string& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using ru::test::slurp;
 
 // $RU_RTL_DIR if set (to check another copy of the RTL), else the source tree's rtl/.
 std::string rtl_dir() { return default_rtl_dir(); }

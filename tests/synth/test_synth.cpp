@@ -15,6 +15,8 @@
 #include "rayunits/synth/sweep.hpp"
 #include "rayunits/synth/units.hpp"
 
+#include "../common/files.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -30,12 +32,7 @@ std::string rayunits_exe() {
 #endif
 }
 
-std::string slurp(const std::string& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using ru::test::slurp;
 
 void spit(const std::string& p, const std::string& text) {
   std::ofstream out(p, std::ios::binary);

@@ -24,6 +24,7 @@
 #include "rayunits/trax/trax.hpp"
 #include "rayunits/units/ray_box.hpp"
 #include "rayunits/units/ray_tri.hpp"
+#include "../common/files.hpp"
 
 using namespace ru::trax;
 
@@ -495,12 +496,7 @@ struct Cli {
   int code;
   std::string out, err;
 };
-std::string slurp(const std::string& p) {
-  std::ifstream in(p);
-  std::ostringstream o;
-  o << in.rdbuf();
-  return o.str();
-}
+using ru::test::slurp;
 Cli trax_areas(const std::string& args) {
   const std::string d = ::testing::TempDir();
   const std::string o = d + "/trax_areas.out", e = d + "/trax_areas.err";
