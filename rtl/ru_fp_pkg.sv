@@ -232,6 +232,30 @@ package ru_fp_pkg;
     cmp_seg_w = v;
   endfunction
 
+  // ru_fp_cvt: unpack (integer magnitude, exponents) | normalize (f2f, i2f) / integer shift (f2i)
+  // | round A / integer round increment | round B / range check, negate, result mux
+  function automatic int unsigned cvt_nseg();
+    cvt_nseg = 4;
+  endfunction
+  function automatic logic [ru_pipe_pkg::WW-1:0] cvt_seg_w(input int unsigned exp_w,
+                                                              input int unsigned frac_w,
+                                                              input int unsigned sub,
+                                                              input int unsigned in_exp_w,
+                                                              input int unsigned in_frac_w,
+                                                              input int unsigned int_w);
+    logic [ru_pipe_pkg::WW-1:0] v;
+    int unsigned sw, cw;
+    sw = max2(in_frac_w + 1, int_w);
+    cw = max2(max2(exp_w, in_exp_w), clog2p(sw + 2)) + 3;
+    v = '0;
+    v = ru_pipe_pkg::put_w(v, 0, max2(d_add(int_w), d_add(cw)) + 3);
+    v = ru_pipe_pkg::put_w(v, 1, max2(d_lzc(sw) + d_shift(sw) + d_add(cw) + 2,
+                                      d_shift(frac_w + int_w + 2) + 1));
+    v = ru_pipe_pkg::put_w(v, 2, max2(d_round_a(exp_w, frac_w, sub), d_add(int_w + 1) + 3));
+    v = ru_pipe_pkg::put_w(v, 3, max2(d_round_b(exp_w, frac_w), d_add(int_w + 2) + 2) + 3);
+    cvt_seg_w = v;
+  endfunction
+
   // ---------------------------------------------------------------------------------------
   // The kind table of the level chains (ru_pipe_pkg::unit_cuts): segment counts (8 bits each)
   // and segment weights (ru_pipe_pkg::WW bits each) of the FP unit of kind k at index k.

@@ -53,6 +53,8 @@ void add_random(Ctx c, const std::string& suite, const std::string& test, uint64
   });
 }
 
+}  // namespace
+
 void registry_plan(const ConfigDesc& cfg) {
   Ctx c;
   c.cfg = &cfg;
@@ -75,7 +77,8 @@ void registry_plan(const ConfigDesc& cfg) {
   }
 }
 
+namespace {
 PlanRegistrar r_any("*", registry_plan);
-
 }  // namespace
+
 }  // namespace ru::tb

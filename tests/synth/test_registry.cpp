@@ -149,7 +149,7 @@ TEST(Registry, RtlReadmeTableAgrees) {
     EXPECT_EQ(find_unit("fp_fma").max_stages(c), std::stoi(fmas[i])) << fmas[i];
   }
   // The units table: `| `ru_fp_add`  | ... | 5 |`.
-  for (const char* name : {"fp_add", "fp_cmp"}) {
+  for (const char* name : {"fp_add", "fp_cmp", "fp_cvt"}) {
     const std::regex re("\\| `ru_" + std::string(name) + "` *\\|[^\\n]*\\| *([0-9]+) *\\|");
     std::smatch m;
     ASSERT_TRUE(std::regex_search(md, m, re)) << name;
@@ -204,7 +204,7 @@ TEST(Registry, ReadmeOnePastTheMaximumAgrees) {
   }
   const std::map<std::string, std::string> unit_of = {
       {"add", "fp_add"}, {"mul", "fp_mul"},   {"div", "fp_div"},   {"sqrt", "fp_sqrt"}, {"fma", "fp_fma"}, {"cmp", "fp_cmp"},
-      {"dot3", "fp_dot3"}, {"ray_box", "ray_box"}, {"ray_tri_robust", "ray_tri_robust"},
+      {"dot3", "fp_dot3"}, {"cvt", "fp_cvt"}, {"ray_box", "ray_box"}, {"ray_tri_robust", "ray_tri_robust"},
       {"ray_tri_mt", "ray_tri_mt"}, {"noise", "noise"}};
   const std::regex item("([a-z_0-9]+)\\s+([0-9]+)");
   int seen = 0;
@@ -230,6 +230,10 @@ TEST(Registry, ExpressionsEvaluate) {
   EXPECT_THROW(eval_expr("FracBits", mul, c), SynthError);  // not a parameter of fp_mul
   EXPECT_THROW(eval_expr("W+", mul, c), SynthError);
   EXPECT_THROW(eval_expr("(W", mul, c), SynthError);
+  EXPECT_EQ(eval_expr("max(W, 40)", mul, c), 40);
+  EXPECT_EQ(eval_expr("max(max(W, 2*M), E) + 1", mul, c), 47);
+  EXPECT_THROW(eval_expr("max(W)", mul, c), SynthError);
+  EXPECT_THROW(eval_expr("max W", mul, c), SynthError);
   const UnitSpec& noise = find_unit("noise");
   UnitConfig n;
   n.params["FracBits"] = 12;

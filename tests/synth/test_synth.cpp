@@ -130,6 +130,20 @@ TEST(SynthRegistry, PortWidthsFollowTheFormat) {
         for (const auto& [name, bits] : want) EXPECT_EQ(width[name], bits) << name;
         continue;
       }
+      if (u.name == "fp_cvt") {  // rtl/ru_fp_cvt.sv: a_i max(W, 1+InExpW+InFracW, IntW), y_o max(W, IntW)
+        EXPECT_EQ(width.size(), 8u);
+        EXPECT_EQ(width["op_i"], 2);
+        EXPECT_EQ(width["a_i"], std::max(w, 32));  // defaults: G = e8m23, IntW = 32
+        EXPECT_EQ(width["y_o"], std::max(w, 32));
+        EXPECT_EQ(width["flags_o"], 5);
+        UnitConfig c2 = c;
+        c2.params = {{"InExpW", 5}, {"InFracW", 10}, {"IntW", 12}};
+        std::map<std::string, int> w2;
+        for (const auto& p : ports_for(u, c2)) w2[p.name] = p.width;
+        EXPECT_EQ(w2["a_i"], std::max(w, 16));
+        EXPECT_EQ(w2["y_o"], std::max(w, 12));
+        continue;
+      }
       const int op_w = u.name == "fp_add" ? 1 : u.name == "fp_fma" ? 2 : u.name == "fp_cmp" ? 3 : 0;
       EXPECT_EQ(width.count("op_i") ? width["op_i"] : 0, op_w);
       const int k = u.name == "fp_dot3" ? 3 : 1;

@@ -112,6 +112,125 @@ InputGen fp_inputs(const UnitConfig& c, uint64_t seed, FpShape shape, int nops) 
   };
 }
 
+// ---- fp_cvt ------------------------------------------------------------------------------------
+
+namespace {
+uint64_t low_bits(uint64_t x, int bits) { return bits >= 64 ? x : x & ((1ull << bits) - 1); }
+int64_t sign_extend(uint64_t x, int bits) {
+  const uint64_t v = low_bits(x, bits);
+  if (bits >= 64 || !((v >> (bits - 1)) & 1)) return static_cast<int64_t>(v);
+  return static_cast<int64_t>(v | ~((1ull << bits) - 1));
+}
+}  // namespace
+
+CvtFormats cvt_formats(const UnitConfig& c) {
+  const UnitSpec& u = find_unit("fp_cvt");
+  CvtFormats v;
+  v.f = c.fmt;
+  v.g.exp_bits = static_cast<int>(param_value(u, c, "InExpW"));
+  v.g.frac_bits = static_cast<int>(param_value(u, c, "InFracW"));
+  v.g.subnormals = param_value(u, c, "InSubnormals") != 0;
+  v.g.round = c.fmt.round;
+  v.int_w = static_cast<int>(param_value(u, c, "IntW"));
+  return v;
+}
+
+GoldenEval fp_cvt_golden(const UnitConfig& c) {
+  const CvtFormats v = cvt_formats(c);
+  return [v](const uint64_t* in, uint64_t* out) {
+    const uint64_t a = in[0], op = in[1] & 3;
+    if (op <= 1) {
+      const num::Result r = op == 0 ? num::convert(v.f, v.g, low_bits(a, v.g.width()))
+                                    : num::from_int(v.f, sign_extend(a, v.int_w));
+      out[0] = r.bits;
+      out[1] = r.flags;
+    } else {
+      const num::IntResult r =
+          num::to_int(v.f, low_bits(a, v.f.width()), op == 3 ? num::Round::RTZ : v.f.round, v.int_w);
+      out[0] = low_bits(static_cast<uint64_t>(r.value), v.int_w);
+      out[1] = r.flags;
+    }
+  };
+}
+
+InputGen fp_cvt_inputs(const UnitConfig& c, uint64_t seed) {
+  struct State {
+    CvtFormats v;
+    num::OperandGen gf, gg;
+    util::Xoshiro256ss rng;
+    State(const CvtFormats& v, uint64_t seed) : v(v), gf(v.f, seed), gg(v.g, seed ^ 0x9e37), rng(seed ^ 0xc0417) {}
+    uint64_t below(uint64_t n) { return util::bounded_lemire(rng, n); }
+    // i2f: an integer of int_w bits (two's complement, low int_w bits)
+    uint64_t integer() {
+      const int w = v.int_w, p = v.f.frac_bits + 1;
+      const uint64_t hi = low_bits(~0ull >> (65 - w), 64);  // 2^(w-1) - 1
+      uint64_t mag;
+      switch (below(6)) {
+        case 0: {  // the range ends and their neighbours
+          const uint64_t e[] = {0, 1, 2, hi, hi - 1, hi + 1 /* 2^(w-1): the most negative */};
+          mag = e[below(6)];
+          break;
+        }
+        case 1: mag = (1ull << below(static_cast<uint64_t>(w - 1))) + (below(3) - 1); break;  // 2^k - 1, 2^k, 2^k + 1
+        case 2: {  // F's rounding ties and their neighbours: an odd (p+1)-bit number, shifted
+          if (w - 1 <= p + 1) {
+            mag = rng() & hi;
+            break;
+          }
+          const uint64_t odd = (1ull << p) | (rng() & ((1ull << p) - 1)) | 1;
+          const int sh = static_cast<int>(below(static_cast<uint64_t>(w - 1 - (p + 1)) + 1));
+          mag = (odd << sh) + (below(3) - 1);
+          break;
+        }
+        default: {  // every bit length
+          const int k = static_cast<int>(below(static_cast<uint64_t>(w)));
+          mag = k == 0 ? 0 : (rng() & (~0ull >> (64 - k))) | (1ull << (k - 1));
+          break;
+        }
+      }
+      mag &= low_bits(~0ull, w);
+      return low_bits(below(2) ? 0 - mag : mag, w);
+    }
+    // f2i: a value of F near an integer or half-integer of any size up to 2^(int_w+2)
+    uint64_t near_integer() {
+      if (below(2)) return gf.next();
+      const int w = v.int_w;
+      double x;
+      if (below(4) == 0) {  // the saturation bounds
+        const double b = std::ldexp(1.0, w - 1);
+        const double d[] = {0.0, -0.5, -1.0, 0.5, 1.0, -1.5};
+        x = b + d[below(6)];
+      } else {
+        const int s = static_cast<int>(below(static_cast<uint64_t>(w + 6))) - 3;  // 2^-3 .. 2^(w+2)
+        const double m = std::ldexp(static_cast<double>((rng() >> 11) | (1ull << 52)), -52);  // [1, 2)
+        x = std::ldexp(m, s);
+        switch (below(4)) {
+          case 0: x = std::floor(x); break;
+          case 1: x = std::floor(x) + 0.5; break;
+          default: break;
+        }
+      }
+      if (below(2)) x = -x;
+      return num::from_double(rne(v.f), x).bits;
+    }
+  };
+  auto st = std::make_shared<State>(cvt_formats(c), seed);
+  const int aw = std::max({st->v.f.width(), st->v.g.width(), st->v.int_w});
+  return [st, aw](uint64_t* in) {
+    const uint64_t op = st->below(4);
+    const uint64_t junk = low_bits(st->rng(), aw);  // the bits the op ignores
+    int w;
+    uint64_t a;
+    switch (op) {
+      case 0: a = st->gg.next(), w = st->v.g.width(); break;
+      case 1: a = st->integer(), w = st->v.int_w; break;
+      default: a = st->near_integer(), w = st->v.f.width(); break;
+    }
+    in[0] = (junk & ~low_bits(~0ull, w)) | a;
+    in[1] = op;
+  };
+}
+
 // ---- ray units ---------------------------------------------------------------------------------
 
 GoldenEval ray_box_golden(const UnitConfig& c) {

@@ -191,6 +191,41 @@ std::vector<UnitSpec> make_units() {
                        "e5m10-ftz:s2:rup", "e4m3:s2", "e5m2:s1"}));
   u.back().seg_weights_param = false;  // its FP instances get their cuts from its level chain
   {
+    // Conversions: F = the configuration's format, G = InExpW/InFracW/InSubnormals, IntW-bit integers.
+    UnitSpec s;
+    s.name = "fp_cvt";
+    s.top = "ru_fp_cvt";
+    s.summary = "conversions: format G to F (f2f), integer to F (i2f), F to integer (f2i, f2i_rtz), saturating";
+    s.filelist = "ru_fp_cvt.f";
+    s.params = fp_params();
+    s.extra_params = {{"InExpW", 8, Format::kMinExp, Format::kMaxExp, "exponent bits of the source format G (f2f)"},
+                      {"InFracW", 23, Format::kMinFrac, Format::kMaxFrac, "fraction bits of G"},
+                      {"InSubnormals", 1, 0, 1, "0: G is flush-to-zero (its subnormals read as zero)"},
+                      {"IntW", 32, 2, 64, "integer width (two's complement) of i2f, f2i, f2i_rtz"}};
+    s.ports = control_ports();
+    for (PortSpec p : {in("a_i", "max(max(W, 1+InExpW+InFracW), IntW)",
+                          "f2f: a value of G in the low bits; i2f: an IntW-bit integer; f2i: a value of F"),
+                       enum_in("op_i", "2", "0 f2f, 1 i2f, 2 f2i (mode Round), 3 f2i_rtz (toward zero)",
+                               {"f2f", "i2f", "f2i", "f2i_rtz"}),
+                       out_valid(), out("y_o", "max(W, IntW)", "f2f, i2f: a value of F; f2i: an IntW-bit integer"),
+                       out("flags_o", "5", "{invalid, divzero, overflow, underflow, inexact}", FieldKind::Flags)})
+      s.ports.push_back(std::move(p));
+    s.max_stages_expr = "3";
+    s.seg_weights_param = true;
+    s.golden = models::fp_cvt_golden;
+    s.random_inputs = models::fp_cvt_inputs;
+    s.tests = {"e7m16:s0",        "e8m23:smax+1:InExpW=7:InFracW=16:selftest",
+               "e5m10:s1:IntW=16",                     "e8m23:s2:InExpW=5:InFracW=10:IntW=64",
+               "e4m3:s1:InExpW=5:InFracW=2:IntW=8:exhaustive",
+               "e3m2-ftz:s2:rtz:InExpW=4:InFracW=3:InSubnormals=0:IntW=6:exhaustive"};
+    s.long_tests = {"e11m52:s0:InExpW=8:InFracW=23:IntW=64", "e11m52:s3:IntW=64", "e8m23:s3:InExpW=11:InFracW=52",
+                    "e7m16:s1:rtz", "e7m16:s2:rdn:IntW=16", "e7m16:s3:rup:IntW=64",
+                    "e8m23-ftz:s1:InSubnormals=0", "e5m10-ftz:s2:rup:InExpW=8:InFracW=23:InSubnormals=0",
+                    "e2m1:s0:InExpW=3:InFracW=2:IntW=4:exhaustive", "e4m3:s3:rdn:InExpW=3:InFracW=4:IntW=10:exhaustive",
+                    "e5m2-ftz:s1:rup:InExpW=4:InFracW=3:IntW=7:exhaustive", "e2m5:s2:rtz:InExpW=5:InFracW=2:IntW=2:exhaustive"};
+    u.push_back(std::move(s));
+  }
+  {
     UnitSpec s;
     s.name = "ray_box";
     s.top = "ru_ray_box";
@@ -368,7 +403,16 @@ class ExprParser {
     }
     while (i_ < e_.size() && (std::isalnum(static_cast<unsigned char>(e_[i_])) || e_[i_] == '_')) ++i_;
     if (b == i_) fail(i_ < e_.size() ? "unexpected '" + e_.substr(i_, 1) + "'" : "unexpected end");
-    return name(e_.substr(b, i_ - b));
+    const std::string n = e_.substr(b, i_ - b);
+    if (n == "max") {  // max(x, y)
+      if (!eat('(')) fail("max needs '('");
+      const long long x = sum();
+      if (!eat(',')) fail("max needs two arguments");
+      const long long y = sum();
+      if (!eat(')')) fail("missing ')'");
+      return std::max(x, y);
+    }
+    return name(n);
   }
   long long name(const std::string& n) const {
     if (u_.uses_format) {

@@ -26,6 +26,20 @@ enum class FpShape : uint8_t { Unary, Binary, Ternary, Dot3 };
 GoldenEval fp_golden(const UnitConfig& c, FpShape shape, std::vector<FpOp> ops);
 InputGen fp_inputs(const UnitConfig& c, uint64_t seed, FpShape shape, int nops);
 
+// fp_cvt: a op -> y flags. The second format G (InExpW, InFracW, InSubnormals; rounding unused)
+// and IntW come from the configuration's parameters (their registry defaults when unset).
+struct CvtFormats {
+  num::Format f, g;
+  int int_w = 32;
+};
+CvtFormats cvt_formats(const UnitConfig& c);
+GoldenEval fp_cvt_golden(const UnitConfig& c);
+// Uniform op; the bits of a_i the op ignores are random. f2f: OperandGen of G; i2f: integers of
+// every bit length, the range ends, powers of two and F's rounding ties and midpoints; f2i:
+// half OperandGen of F, half values near integers and half-integers over [2^-3, 2^(IntW+2)],
+// the range ends included.
+InputGen fp_cvt_inputs(const UnitConfig& c, uint64_t seed);
+
 // A trace record as the unit's input fields, each value rounded to nearest into `f`:
 // ray_box org.xyz rdir.xyz tmin tmax bmin.xyz bmax.xyz (14 fields), ray_tri_* a.xyz d.xyz p0.xyz
 // p1.xyz p2.xyz tmin tmax (17 fields).

@@ -147,7 +147,7 @@ struct UnitSpec {
   bool large_model = false;
 };
 
-// Evaluates a registry expression: integers, + - * / ( ), and the names
+// Evaluates a registry expression: integers, + - * / ( ), max(x, y), and the names
 //   E = ExpW, M = FracW, W = 1+E+M, L = csa_levels(M+1) (carry-save levels of the significand
 //   multiplier, ru_fp_pkg::csa_levels), and every extra parameter of the unit by name.
 // Format names are only defined for units that use a format. Throws SynthError (one line) on a
