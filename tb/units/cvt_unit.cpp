@@ -20,7 +20,7 @@ namespace {
 
 constexpr int kMaxExhaustiveBits = 16;
 
-uint64_t low(uint64_t x, int bits) { return bits >= 64 ? x : x & ((1ull << bits) - 1); }
+using synth::models::low_bits;
 
 // Records {a_i, op_i} of the special test.
 std::vector<Record> special_records(const synth::models::CvtFormats& v) {
@@ -32,12 +32,12 @@ std::vector<Record> special_records(const synth::models::CvtFormats& v) {
     r.push_back(x);
   };
   for (uint64_t a : num::special_values(v.g)) put(a, 0);
-  std::vector<uint64_t> ints = {0, 1, low(~0ull, v.int_w)};
+  std::vector<uint64_t> ints = {0, 1, low_bits(~0ull, v.int_w)};
   for (int k = 1; k < v.int_w; ++k)
     for (int64_t d : {-1, 0, 1})
       for (bool neg : {false, true}) {
         const uint64_t m = (1ull << k) + static_cast<uint64_t>(d);
-        ints.push_back(low(neg ? 0 - m : m, v.int_w));
+        ints.push_back(low_bits(neg ? 0 - m : m, v.int_w));
       }
   std::sort(ints.begin(), ints.end());
   ints.erase(std::unique(ints.begin(), ints.end()), ints.end());

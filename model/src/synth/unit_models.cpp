@@ -114,8 +114,9 @@ InputGen fp_inputs(const UnitConfig& c, uint64_t seed, FpShape shape, int nops) 
 
 // ---- fp_cvt ------------------------------------------------------------------------------------
 
-namespace {
 uint64_t low_bits(uint64_t x, int bits) { return bits >= 64 ? x : x & ((1ull << bits) - 1); }
+
+namespace {
 int64_t sign_extend(uint64_t x, int bits) {
   const uint64_t v = low_bits(x, bits);
   if (bits >= 64 || !((v >> (bits - 1)) & 1)) return static_cast<int64_t>(v);

@@ -33,6 +33,8 @@ struct CvtFormats {
   int int_w = 32;
 };
 CvtFormats cvt_formats(const UnitConfig& c);
+// The low `bits` bits of x (bits >= 64: x).
+uint64_t low_bits(uint64_t x, int bits);
 GoldenEval fp_cvt_golden(const UnitConfig& c);
 // Uniform op; the bits of a_i the op ignores are random. f2f: OperandGen of G; i2f: integers of
 // every bit length, the range ends, powers of two and F's rounding ties and midpoints; f2i:
