@@ -617,6 +617,90 @@ TEST_P(Dot3, MatchesRoundedComposition) {
 }
 INSTANTIATE_TEST_SUITE_P(Grid, Dot3, ::testing::ValuesIn(grid_formats()), em_param_name);
 
+// dot3_fused (the model: exact GMP sum, one round_pack) against MPFR (exact products, mpfr_sum),
+// on OperandGen::dot3's cancellation and alignment cases. `dut` lets the planted tests below
+// run the same loop on a wrong implementation.
+using Dot3Fn = Result (*)(const Format&, const uint64_t*, const uint64_t*);
+Checker run_dot3_fused(const Format& f, uint64_t n, uint64_t seed, Dot3Fn dut) {
+  OperandGen gen(f, seed);
+  Checker chk("dot3_fused vs MPFR");
+  for (uint64_t i = 0; i < n && !chk.done(); ++i) {
+    uint64_t a[3], b[3];
+    gen.dot3(a, b);
+    const Result want = mpfr_dot3_fused(f, a, b), got = dut(f, a, b);
+    chk.count();
+    if (want.bits != got.bits || want.flags != got.flags) {
+      std::string m = fmt_name(f) + " " + rnd_name(f.round) + " dot3_fused(";
+      for (int k = 0; k < 3; ++k) m += describe(f, a[k]) + " * " + describe(f, b[k]) + (k < 2 ? ", " : ")");
+      chk.fail(m + ": expected " + describe(f, want.bits) + " " + flag_str(want.flags) + ", actual " +
+               describe(f, got.bits) + " " + flag_str(got.flags));
+    }
+  }
+  return chk;
+}
+
+class Dot3Fused : public ::testing::TestWithParam<std::pair<int, int>> {};
+TEST_P(Dot3Fused, MatchesMpfrSum) {
+  const auto [E, M] = GetParam();
+  for (bool sub : {true, false}) {
+    for (Round r : kRounds) {
+      const Checker chk = run_dot3_fused(make_format(E, M, sub, r), scaled(3000), 23, dot3_fused);
+      EXPECT_TRUE(chk.ok()) << chk.report();
+    }
+  }
+}
+INSTANTIATE_TEST_SUITE_P(Grid, Dot3Fused, ::testing::ValuesIn(grid_formats()), em_param_name);
+
+// The loop above catches planted errors: the unfused composition (two extra roundings), and the
+// exact sum with the smallest product dropped whenever the other two cancel exactly (the case a
+// windowed adder gets wrong if it jams the third product).
+Result drop_third_after_cancel(const Format& f, const uint64_t* a, const uint64_t* b) {
+  for (int i = 0; i < 3; ++i)
+    for (int j = i + 1; j < 3; ++j) {
+      const Result pi = mpfr_apply(f, Op::Mul, a[i], b[i]), pj = mpfr_apply(f, Op::Mul, a[j], b[j]);
+      const Result s = mpfr_apply(f, Op::Add, pi.bits, pj.bits);
+      if (pi.flags == 0 && pj.flags == 0 && s.flags == 0 && (s.bits & ~f.sign_bit()) == 0 &&
+          (pi.bits & ~f.sign_bit()) != 0)
+        return {f.round == Round::RDN ? f.sign_bit() : 0, 0};
+    }
+  return mpfr_dot3_fused(f, a, b);
+}
+TEST(Dot3FusedPlanted, UnfusedAndDroppedTermAreCaught) {
+  for (const char* name : {"e5m10", "e8m23", "e3m2"}) {
+    const Format f = Format::parse(name);
+    EXPECT_GT(run_dot3_fused(f, 20000, 5, dot3).errors(), 0u) << name << ": unfused composition not caught";
+    EXPECT_GT(run_dot3_fused(f, 20000, 5, drop_third_after_cancel).errors(), 0u)
+        << name << ": dropped third product not caught";
+  }
+}
+
+// Every operand sextuple of the 4-bit formats (16^6 = 1.7e7 each), every rounding mode, with and
+// without subnormals (long).
+class LongDot3FusedExhaustive : public ::testing::TestWithParam<std::pair<int, int>> {};
+TEST_P(LongDot3FusedExhaustive, EverySextuple) {
+  const auto [E, M] = GetParam();
+  for (bool sub : {true, false}) {
+    for (Round r : kRounds) {
+      const Format f = make_format(E, M, sub, r);
+      Checker chk("dot3_fused vs MPFR (exhaustive)");
+      const uint64_t n = 1ull << f.width(), total = n * n * n * n * n * n;
+      for (uint64_t v = 0; v < total && !chk.done(); ++v) {
+        uint64_t a[3], b[3], w = v;
+        for (int k = 0; k < 3; ++k) a[k] = w % n, w /= n;
+        for (int k = 0; k < 3; ++k) b[k] = w % n, w /= n;
+        const Result want = mpfr_dot3_fused(f, a, b), got = dot3_fused(f, a, b);
+        chk.count();
+        if (want.bits != got.bits || want.flags != got.flags)
+          chk.fail(fmt_name(f) + " " + rnd_name(r) + " dot3_fused sextuple " + std::to_string(v) + ": expected " +
+                   describe(f, want.bits) + " " + flag_str(want.flags) + ", actual " + describe(f, got.bits) + " " +
+                   flag_str(got.flags));
+      }
+      EXPECT_TRUE(chk.ok()) << chk.report();
+    }
+  }
+}
+INSTANTIATE_TEST_SUITE_P(LongSmall, LongDot3FusedExhaustive, ::testing::Values(std::pair{2, 1}), em_param_name);
+
 TEST(ParseOperand, HexDecimalAndErrors) {
   const Format h = Format::parse("e5m10");
   EXPECT_EQ(parse_operand(h, "0x3c00"), 0x3c00u);

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <algorithm>
 #include <limits>
 
 namespace ru::num {
@@ -207,24 +208,32 @@ void set_val(mpfr_ptr x, const Val& v) {
 
 // Rounds the result of fn(r, rnd) (an MPFR computation returning its ternary value) into F.
 // Must be called inside an ExpRange (wide range active).
+// The part of round_into before the tiny case: r = v rounded to M+1 bits with ternary value t,
+// unbounded exponent. Returns false (out untouched) if r is tiny after rounding.
+bool pack_not_tiny(const Fmt& F, mpfr_srcptr r, int t, Result& out) {
+  if (mpfr_nan_p(r)) return out = {F.qnan(), kInvalid}, true;
+  const bool neg = mpfr_signbit(r) != 0;
+  if (mpfr_inf_p(r)) return out = {F.inf(neg), 0}, true;
+  if (mpfr_zero_p(r)) return out = {F.zero(neg), 0}, true;  // exact zero (no underflow to 0 in this range)
+  const int64_t lead = static_cast<int64_t>(mpfr_get_exp(r)) - 1;  // |r| in [2^lead, 2^(lead+1))
+  if (lead < F.emin) return false;
+  if (lead > F.emax) {  // overflow
+    const bool to_inf = F.rnd == Round::RNE || (F.rnd == Round::RUP && !neg) || (F.rnd == Round::RDN && neg);
+    out = {to_inf ? F.inf(neg) : F.max_finite(neg), kOverflow | kInexact};
+  } else {
+    out = {encode(F, mpfr_get_d(r, MPFR_RNDN)), static_cast<uint8_t>(t != 0 ? kInexact : 0)};
+  }
+  return true;
+}
+
 template <class Fn>
 Result round_into(const Fmt& F, mpfr_ptr r, Fn fn) {
   const mpfr_rnd_t rnd = to_mpfr(F.rnd);
   const int t = fn(r, rnd);  // r = v rounded to M+1 bits, unbounded exponent
-  if (mpfr_nan_p(r)) return {F.qnan(), kInvalid};
-  const bool neg = mpfr_signbit(r) != 0;
-  if (mpfr_inf_p(r)) return {F.inf(neg), 0};
-  if (mpfr_zero_p(r)) return {F.zero(neg), 0};  // exact zero (no underflow to 0 in this range)
-  const int64_t lead = static_cast<int64_t>(mpfr_get_exp(r)) - 1;  // |r| in [2^lead, 2^(lead+1))
-  if (lead >= F.emin) {
-    if (lead > F.emax) {  // overflow
-      const bool to_inf =
-          F.rnd == Round::RNE || (F.rnd == Round::RUP && !neg) || (F.rnd == Round::RDN && neg);
-      return {to_inf ? F.inf(neg) : F.max_finite(neg), kOverflow | kInexact};
-    }
-    return {encode(F, mpfr_get_d(r, MPFR_RNDN)), static_cast<uint8_t>(t != 0 ? kInexact : 0)};
-  }
+  Result out;
+  if (pack_not_tiny(F, r, t, out)) return out;
   // Tiny after rounding.
+  const bool neg = mpfr_signbit(r) != 0;
   if (!F.sub) return {F.zero(neg), kUnderflow | kInexact};
   ExpRange::format(F);
   int t2 = fn(r, rnd);
@@ -400,6 +409,76 @@ Result mpfr_dot3(const Format& f, const uint64_t a[3], const uint64_t b[3]) {
   const Result s = mpfr_apply(f, Op::Add, p0.bits, p1.bits);
   const Result y = mpfr_apply(f, Op::Add, s.bits, p2.bits);
   return {y.bits, static_cast<uint8_t>(p0.flags | p1.flags | p2.flags | s.flags | y.flags)};
+}
+
+// Fused dot3: the three products exactly (precision 2M+2), mpfr_sum rounds their exact sum once.
+// Specials as docs/FORMAT.md states them for dot3_fused (written from the text, not the model).
+Result mpfr_dot3_fused(const Format& f, const uint64_t a[3], const uint64_t b[3]) {
+  const Fmt F(f);
+  Val x[3], y[3];
+  bool nan = false, snan = false, zero_times_inf = false, pinf = false, ninf = false;
+  bool all_zero = true, zneg_all = true, zpos_all = true;
+  for (int i = 0; i < 3; ++i) {
+    x[i] = decode(F, a[i]);
+    y[i] = decode(F, b[i]);
+    nan = nan || x[i].nan() || y[i].nan();
+    snan = snan || x[i].kind == Kind::SNaN || y[i].kind == Kind::SNaN;
+    const bool inf = x[i].kind == Kind::Inf || y[i].kind == Kind::Inf;
+    const bool zero = x[i].kind == Kind::Zero || y[i].kind == Kind::Zero;
+    const bool neg = x[i].neg != y[i].neg;
+    if (inf && zero) zero_times_inf = true;
+    if (inf && !zero) (neg ? ninf : pinf) = true;
+    if (!zero) all_zero = false;
+    (neg ? zpos_all : zneg_all) = false;
+  }
+  if (nan) return {F.qnan(), static_cast<uint8_t>(snan || zero_times_inf ? kInvalid : 0)};
+  if (zero_times_inf || (pinf && ninf)) return {F.qnan(), kInvalid};
+  if (pinf || ninf) return {F.inf(ninf), 0};
+  const bool rdn = F.rnd == Round::RDN;
+  if (all_zero) return {F.zero(zneg_all || (!zpos_all && rdn)), 0};
+  // The exact sum X at a precision that holds it (its terms span at most P - 2M - 4 binades);
+  // then rounded like round_into, except on the subnormal grid: X's inputs lie outside the
+  // format's exponent range, so the tiny case rounds X / 2^(emin-M) to an integer (mpfr_rint).
+  State& S = state();
+  S.set_prec(F.M);
+  ExpRange range;
+  mpfr_t p[3], X, q;
+  mpfr_ptr tab[3];
+  mpfr_exp_t hi = 0, lo = 0;
+  bool any = false;
+  for (int i = 0; i < 3; ++i) {
+    mpfr_init2(p[i], 2 * (F.M + 1));
+    set_val(S.a, x[i]);
+    set_val(S.b, y[i]);
+    if (mpfr_mul(p[i], S.a, S.b, MPFR_RNDN) != 0) oracle_bug("product not exact", x[i].value(), F.E, F.M);
+    tab[i] = p[i];
+    if (mpfr_zero_p(p[i])) continue;
+    const mpfr_exp_t e = mpfr_get_exp(p[i]);
+    hi = any ? std::max(hi, e) : e;
+    lo = any ? std::min(lo, e) : e;
+    any = true;
+  }
+  mpfr_init2(X, static_cast<mpfr_prec_t>(hi - lo) + 2 * (F.M + 1) + 4);
+  mpfr_init2(q, 64);
+  if (mpfr_sum(X, tab, 3, MPFR_RNDN) != 0) oracle_bug("sum not exact", mpfr_get_d(X, MPFR_RNDN), F.E, F.M);
+  Result res;
+  const mpfr_rnd_t rnd = to_mpfr(F.rnd);
+  if (!pack_not_tiny(F, S.r, mpfr_set(S.r, X, rnd), res)) {
+    const bool neg = mpfr_signbit(X) != 0;
+    if (!F.sub) {
+      res = {F.zero(neg), kUnderflow | kInexact};
+    } else {
+      mpfr_mul_2si(X, X, -(F.emin - F.M), MPFR_RNDN);  // exact
+      const int t = mpfr_rint(q, X, rnd);                // |q| <= 2^M
+      const double d = std::ldexp(mpfr_get_d(q, MPFR_RNDN), static_cast<int>(F.emin - F.M));
+      res = {mpfr_zero_p(q) ? F.zero(neg) : encode(F, d), static_cast<uint8_t>(t != 0 ? kUnderflow | kInexact : 0)};
+    }
+  }
+  mpfr_clears(X, q, static_cast<mpfr_ptr>(nullptr));
+  for (auto& v : p) mpfr_clear(v);
+  // An exact zero from non-zero terms: opposite signs cancelled, +0 (-0 under RDN).
+  if (res.flags == 0 && (res.bits & ~F.sign) == 0) res.bits = F.zero(rdn);
+  return res;
 }
 
 }  // namespace ru::num

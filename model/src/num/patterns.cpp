@@ -547,6 +547,79 @@ void OperandGen::triple(uint64_t& a, uint64_t& b, uint64_t& c) {
   }
 }
 
+void OperandGen::dot3(uint64_t a[3], uint64_t b[3]) {
+  const uint64_t k = below(100);
+  for (int i = 0; i < 3; ++i) pair(a[i], b[i]);
+  // products with unbiased exponents T - delta_i (operands split at random), delta_0 = 0
+  auto at_exponents = [&](const int64_t d1, const int64_t d2) {
+    const int64_t T = emin_ + static_cast<int64_t>(below(static_cast<uint64_t>(2 * (emax_ - emin_) + 1)));
+    const int64_t d[3] = {0, d1, d2};
+    for (int i = 0; i < 3; ++i) {
+      const int64_t t = T - d[i];
+      const int64_t lo = std::max(emin_ - M_, t - emax_), hi = std::min(emax_, t - emin_ + M_);
+      const int64_t ua = lo > hi ? t / 2 : lo + static_cast<int64_t>(below(static_cast<uint64_t>(hi - lo + 1)));
+      a[i] = random_normal_exp(ua);
+      b[i] = random_normal_exp(t - ua);
+    }
+  };
+  auto delta = [&]() -> int64_t {
+    switch (below(4)) {
+      case 0: return static_cast<int64_t>(below(4));
+      case 1: return 2 * M_ + 2 + static_cast<int64_t>(below(7));
+      case 2: return 4 * M_ + 3 + static_cast<int64_t>(below(7));
+      default: return static_cast<int64_t>(below(static_cast<uint64_t>(6 * M_ + 12)));
+    }
+  };
+  if (k < 20) {
+    return;  // independent pairs
+  } else if (k < 35) {  // p1 = -p0 exactly; p2 anything
+    if (chance(50)) at_exponents(0, delta());
+    a[1] = a[0];
+    b[1] = b[0] ^ sign_bit_;
+    if (chance(30)) {  // same product, operand exponents traded: a1 = 2 a0, b1 = -b0 / 2
+      const uint64_t ea = (a[0] >> M_) & ((1ull << E_) - 1), eb = (b[0] >> M_) & ((1ull << E_) - 1);
+      if (ea >= 1 && ea + 1 <= static_cast<uint64_t>(max_bexp_) && eb >= 2) {
+        a[1] = a[0] + (1ull << M_);
+        b[1] = (b[0] - (1ull << M_)) ^ sign_bit_;
+      }
+    }
+  } else if (k < 45) {  // p1 = -(a0*b0) as one operand (the product exact in the format)
+    uint64_t sa, sb;
+    int64_t ea, eb;
+    a[0] = random_normal_exp(normal_bexp() - bias_);
+    b[0] = pack(chance(50), static_cast<uint64_t>(bias_ + static_cast<int64_t>(below(3)) - 1),
+                (sig_with_bits(1 + static_cast<int>(below(2))) << (M_ > 1 ? M_ - 1 : 0)) & frac_mask_);
+    unpack(a[0], sa, ea);
+    unpack(b[0], sb, eb);
+    bool ok = false;
+    const uint64_t p = from_sig(((a[0] ^ b[0]) & sign_bit_) == 0, static_cast<u128>(sa) * sb, ea + eb, ok);
+    if (ok) {
+      a[1] = p;
+      b[1] = pack(false, static_cast<uint64_t>(bias_), 0);  // 1.0
+      if (chance(30)) a[1] = step(a[1], chance(50) ? 1 : -1);
+    }
+  } else if (k < 60) {  // p2 = -p1 (or one ulp off) far below or near p0
+    at_exponents(delta(), 0);
+    a[2] = a[1];
+    b[2] = b[1] ^ sign_bit_;
+    if (chance(30)) b[2] = step(b[2], chance(50) ? 1 : -1);
+    if (chance(30)) std::swap(a[0], a[2]), std::swap(b[0], b[2]);
+  } else if (k < 72) {  // p1 ~ -p0, one ulp apart
+    a[1] = a[0];
+    b[1] = step(b[0] ^ sign_bit_, chance(50) ? 1 : -1);
+    if (chance(50)) at_exponents(0, delta()), a[1] = a[0], b[1] = step(b[0] ^ sign_bit_, 1);
+  } else if (k < 95) {
+    at_exponents(delta(), delta());
+  } else {
+    for (int i = 0; i < 3; ++i)
+      if (chance(40)) (chance(50) ? a[i] : b[i]) = specials_[below(specials_.size())];
+  }
+  if (chance(50)) {  // permute the products
+    const int i = static_cast<int>(below(3)), j = static_cast<int>(below(3));
+    std::swap(a[i], a[j]);
+    std::swap(b[i], b[j]);
+  }
+}
 void OperandGen::triple_cancel(uint64_t& a, uint64_t& b, uint64_t& c) {
   // c ~ -(a*b): the exact product truncated to M+1 bits, moved by a few ulps.
   for (int attempt = 0; attempt < 4; ++attempt) {

@@ -5,6 +5,7 @@
 // round_pack(). The sticky bit stands for a non-zero tail strictly below bit 0 of sig; callers
 // guarantee that whenever it is set, sig has at least M+3 significant bits, so the guard bit is
 // always an exact bit of sig and the tail only feeds the sticky bit. Semantics: docs/FORMAT.md.
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <utility>
@@ -338,6 +339,61 @@ Result dot3(const Format& f, const uint64_t a[3], const uint64_t b[3]) {
   Result y = add(f, s.bits, p2.bits);
   y.flags |= p0.flags | p1.flags | p2.flags | s.flags;
   return y;
+}
+
+// Fused: the exact sum of the three exact products, rounded once (docs/FORMAT.md). The sum is
+// formed exactly in a GMP integer over the lowest product exponent; its top 125 bits (the rest
+// as sticky) go to round_pack.
+Result dot3_fused(const Format& f, const uint64_t a[3], const uint64_t b[3]) {
+  Unpacked x[3], y[3];
+  bool any_nan = false, any_snan = false, itz = false, pos_inf = false, neg_inf = false;
+  for (int i = 0; i < 3; ++i) {
+    x[i] = unpack(f, a[i]);
+    y[i] = unpack(f, b[i]);
+    any_nan = any_nan || x[i].kind == Unpacked::NaN || y[i].kind == Unpacked::NaN;
+    any_snan = any_snan || x[i].snan || y[i].snan;
+    const bool inf = x[i].kind == Unpacked::Inf || y[i].kind == Unpacked::Inf;
+    const bool zero = x[i].kind == Unpacked::Zero || y[i].kind == Unpacked::Zero;
+    itz = itz || (inf && zero);
+    if (inf && !zero) (x[i].neg != y[i].neg ? neg_inf : pos_inf) = true;
+  }
+  // A NaN operand: NaN, invalid for a signaling NaN or an inf*0 product (as fma); inf*0, or
+  // infinite products of both signs: NaN, invalid; one infinite sign: that infinity.
+  if (any_nan) return nan_result(f, any_snan || itz);
+  if (itz || (pos_inf && neg_inf)) return nan_result(f, true);
+  if (pos_inf || neg_inf) return {f.inf(neg_inf), 0};
+  int lo = 0;
+  bool first = true, all_zero = true, zsign_same = true;
+  const bool zneg0 = x[0].neg != y[0].neg;
+  for (int i = 0; i < 3; ++i) {
+    const bool neg = x[i].neg != y[i].neg;
+    zsign_same = zsign_same && neg == zneg0;
+    if (x[i].kind == Unpacked::Zero || y[i].kind == Unpacked::Zero) continue;
+    all_zero = false;
+    const int e = x[i].exp + y[i].exp;
+    lo = first ? e : std::min(lo, e);
+    first = false;
+  }
+  if (all_zero) return {signed_zero(f, zsign_same ? zneg0 : f.round == Round::RDN), 0};
+  mpz_class sum = 0, t;
+  for (int i = 0; i < 3; ++i) {
+    if (x[i].kind == Unpacked::Zero || y[i].kind == Unpacked::Zero) continue;
+    mpz_class p(static_cast<unsigned long>(x[i].sig));
+    p *= static_cast<unsigned long>(y[i].sig);
+    mpz_mul_2exp(t.get_mpz_t(), p.get_mpz_t(), static_cast<mp_bitcnt_t>(x[i].exp + y[i].exp - lo));
+    if (x[i].neg != y[i].neg) sum -= t; else sum += t;
+  }
+  const int sgn = mpz_sgn(sum.get_mpz_t());
+  if (sgn == 0) return {signed_zero(f, f.round == Round::RDN), 0};  // opposite signs cancelled
+  mpz_abs(sum.get_mpz_t(), sum.get_mpz_t());
+  const long bits = static_cast<long>(mpz_sizeinbase(sum.get_mpz_t(), 2));
+  const long drop = std::max(0L, bits - 125);
+  const bool sticky = drop > 0 && static_cast<long>(mpz_scan1(sum.get_mpz_t(), 0)) < drop;
+  mpz_tdiv_q_2exp(t.get_mpz_t(), sum.get_mpz_t(), static_cast<mp_bitcnt_t>(drop));
+  u128 sig = 0;
+  for (size_t w = mpz_size(t.get_mpz_t()); w-- > 0;)
+    sig = (sig << 64) | static_cast<uint64_t>(mpz_getlimbn(t.get_mpz_t(), static_cast<mp_size_t>(w)));
+  return round_pack(f, sgn < 0, lo + static_cast<int>(drop), sig, sticky);
 }
 
 Result detail::min_general(const Format& f, uint64_t a, uint64_t b) { return minmax(f, a, b, false); }

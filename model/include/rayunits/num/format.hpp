@@ -98,6 +98,9 @@ inline Result fma(const Format& f, uint64_t a, uint64_t b, uint64_t c);  // a*b+
 // 3-term dot product as the RTL builds it (two rounding levels, not fused):
 //   p_i = round(a_i*b_i);  y = round(round(p0 + p1) + p2); flags are the OR of all five ops.
 Result dot3(const Format& f, const uint64_t a[3], const uint64_t b[3]);
+// Fused 3-term dot product: round(a0*b0 + a1*b1 + a2*b2), the exact sum rounded once; flags of
+// that one rounding (docs/FORMAT.md gives the special cases). What rtl/ru_fp_dot3_fused.sv builds.
+Result dot3_fused(const Format& f, const uint64_t a[3], const uint64_t b[3]);
 
 // min/max: IEEE 754-2008 minNum/maxNum: a NaN operand is ignored (both NaN: canonical NaN),
 // -0 < +0, invalid only for a signaling NaN operand. FTZ formats flush subnormal operands first.

@@ -39,5 +39,7 @@ double mpfr_to_double(const Format& f, uint64_t a);
 IntResult mpfr_to_int(const Format& f, uint64_t a, Round r);
 // The RTL's dot3: round(round(round(a0*b0) + round(a1*b1)) + round(a2*b2)), flags ORed.
 Result mpfr_dot3(const Format& f, const uint64_t a[3], const uint64_t b[3]);
+// The fused dot3: the exact a0*b0 + a1*b1 + a2*b2 rounded once (mpfr_sum of exact products).
+Result mpfr_dot3_fused(const Format& f, const uint64_t a[3], const uint64_t b[3]);
 
 }  // namespace ru::num

@@ -39,6 +39,13 @@ class OperandGen {
   // exact square of a short significand, or the square of an (M+2)-bit odd number (a rounding
   // midpoint: the root lands next to a tie), half of those moved by one ulp.
   uint64_t sqrt_case();
+  // Two 3-vectors for the dot products (dot3, dot3_fused): independent pairs; a product pair
+  // cancelling exactly (p1 = -p0, also with the operands' exponents traded so the products'
+  // significands differ by a factor 2) beside a third product of any size; the two smaller
+  // products cancelling each other (exactly or nearly) below a large one; near cancellation
+  // (one ulp apart); products whose exponents differ by 0..3, around 2M+5 and around 4M+6
+  // (the alignment limits of rtl/ru_fp_dot3_fused.sv); special values mixed in.
+  void dot3(uint64_t a[3], uint64_t b[3]);
 
  private:
   uint64_t rnd();                 // xoshiro256** (util/rng.hpp)
