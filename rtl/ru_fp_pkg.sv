@@ -219,6 +219,32 @@ package ru_fp_pkg;
   endfunction
 
   // ru_fp_cmp: unpack/flush/classify | magnitude compare | operation select
+  // ru_fp_dot3_fused: L+8 segments (see the module), window WW = 4N+4, sum 4N+7 bits
+  function automatic int unsigned dot3f_nseg(input int unsigned frac_w);
+    dot3f_nseg = csa_levels(frac_w + 1) + 8;
+  endfunction
+  function automatic logic [ru_pipe_pkg::WW-1:0] dot3f_seg_w(input int unsigned exp_w,
+                                                                input int unsigned frac_w,
+                                                                input int unsigned sub);
+    logic [ru_pipe_pkg::WW-1:0] v;
+    int unsigned l, n, ww, ew;
+    n = frac_w + 1;
+    l = csa_levels(n);
+    ww = 4 * n + 4;
+    ew = exp_iw(exp_w, frac_w) + 1;
+    v = '0;
+    v = ru_pipe_pkg::put_w(v, 0, ((sub != 0) ? d_lzc(n) + d_shift(n) : 0) + d_add(ew) + 2);
+    v = ru_pipe_pkg::put_w(v, 1, 2 * d_add(ew) + 4);
+    for (int unsigned k = 1; k <= l; k++) v = ru_pipe_pkg::put_w(v, k + 1, (k == 1) ? 3 : 2);
+    v = ru_pipe_pkg::put_w(v, l + 2, d_add(2 * n));
+    v = ru_pipe_pkg::put_w(v, l + 3, max2(d_shift(ww) + clog2p(ww) + 1, d_add(2 * n + 1) + 2) + 3);
+    v = ru_pipe_pkg::put_w(v, l + 4, 2 * d_add(ww + 3) + 4);
+    v = ru_pipe_pkg::put_w(v, l + 5, d_lzc(ww + 2) + d_shift(ww + 2));
+    v = ru_pipe_pkg::put_w(v, l + 6, d_round_a(exp_w, frac_w, sub));
+    v = ru_pipe_pkg::put_w(v, l + 7, d_round_b(exp_w, frac_w) + 2);
+    dot3f_seg_w = v;
+  endfunction
+
   function automatic int unsigned cmp_nseg();
     cmp_nseg = 3;
   endfunction

@@ -13,7 +13,7 @@ PKGS=(
   # The cell-library flow (synth --flow osu018): the liberty, OpenSTA, ABC, and qflow's back
   # end for place and route (synth/pnr). --no-install-recommends: each is named.
   qflow-tech-osu018 qflow-tech-osu035 qflow-tech-osu050 opensta berkeley-abc
-  qflow graywolf qrouter magic netgen-lvs
+  qflow graywolf qrouter magic netgen-lvs xz-utils
 )
 if [[ "${1:-}" == "--long" ]]; then PKGS+=(assimp-testmodels libcgal-demo chromium slurm-wlm munge); fi
 missing=()

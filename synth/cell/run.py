@@ -60,7 +60,7 @@ def max_stages(unit, fmt):
         _MAX_STAGES[key] = int(m.group(2))
     return _MAX_STAGES[key]
 
-FP_UNITS = ["fp_add", "fp_mul", "fp_div", "fp_sqrt", "fp_fma", "fp_cmp", "fp_dot3"]
+FP_UNITS = ["fp_add", "fp_mul", "fp_div", "fp_sqrt", "fp_fma", "fp_cmp", "fp_dot3", "fp_dot3_fused", "fp_cvt"]
 FORMATS = ["e5m10", "e7m16", "e8m23"]
 # Clocks (ps) of the matched-clock comparison (noise vs fp_add + fp_mul vs fp_dot3, e8m23).
 # (fp_mul e8m23 reaches 5.55 ns at best, so 5 ns cannot be matched; noise reaches 5.9 ns at Stages 5.)

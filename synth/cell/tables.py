@@ -15,7 +15,7 @@ import statistics
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 RES = os.path.join(ROOT, "synth", "results", "cell")
 
-FP_UNITS = ["fp_add", "fp_mul", "fp_div", "fp_sqrt", "fp_fma", "fp_cmp", "fp_dot3"]
+FP_UNITS = ["fp_add", "fp_mul", "fp_div", "fp_sqrt", "fp_fma", "fp_cmp", "fp_dot3", "fp_dot3_fused", "fp_cvt"]
 RAY_UNITS = ["ray_box", "ray_tri_robust", "ray_tri_mt"]
 FORMATS = ["e5m10", "e7m16", "e8m23"]
 

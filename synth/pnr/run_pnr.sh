@@ -48,6 +48,13 @@
 #                      unrouted in qrouter's first pass.
 #   --no-checks        skip migrate, drc, lvs and gdsii
 #   --until STEP       stop after STEP (the report is still written)
+#   --archive FILE     after the run, write the work directory's state (every finished step's
+#                      outputs and markers; without GrayWolf's large intermediate .cel/.scel/.pin/
+#                      .pth/.sav files, which no later step reads) to FILE (.tar.xz), written to a
+#                      temporary name and renamed. For flows longer than a session: e.g. place in
+#                      one session with `--until place --archive F`, check F in, route in the next.
+#   --restore FILE     before the run, unpack FILE into an empty (or missing) work directory; the
+#                      path the archive was made in is rewritten to the new one in qflow's scripts.
 #   -h, --help         this text
 set -u -o pipefail
 
@@ -60,7 +67,7 @@ techdir=/usr/share/qflow/tech/$tech
 die() { echo "$prog: error: $*" >&2; exit 2; }
 usage() { sed -n '2,/^set -u/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'; }
 
-clock_ns=10 work= out= rayunits= step_timeout=14400 niceness=10 redo= fresh=0 checks=1 until= gw_fast=0 gw_groute=on density=
+clock_ns=10 work= out= rayunits= step_timeout=14400 niceness=10 redo= fresh=0 checks=1 until= gw_fast=0 gw_groute=on density= archive= restore=
 while [ $# -gt 0 ]; do
   case "$1" in
     --clock-ns) [ $# -ge 2 ] || die "--clock-ns needs a value"; clock_ns=$2; shift 2 ;;
@@ -74,10 +81,12 @@ while [ $# -gt 0 ]; do
     --graywolf-fast) [ $# -ge 2 ] || die "--graywolf-fast needs a value"; gw_fast=$2; shift 2 ;;
     --graywolf-no-global-route) die "--graywolf-no-global-route was removed: without TimberWolfSC's global route no .pin file is written and qflow's place2def cannot write the DEF nets (see --help)" ;;
     --density) [ $# -ge 2 ] || die "--density needs a value"; density=$2; shift 2 ;;
+    --archive) [ $# -ge 2 ] || die "--archive needs a value"; archive=$2; shift 2 ;;
+    --restore) [ $# -ge 2 ] || die "--restore needs a value"; restore=$2; shift 2 ;;
     --fresh) fresh=1; shift ;;
     --no-checks) checks=0; shift ;;
     -h|--help) usage; exit 0 ;;
-    --*) die "unknown option $1 (accepted: --clock-ns --work --out --rayunits --step-timeout --nice --redo --until --graywolf-fast --density --fresh --no-checks --help)" ;;
+    --*) die "unknown option $1 (accepted: --clock-ns --work --out --rayunits --step-timeout --nice --redo --until --graywolf-fast --density --archive --restore --fresh --no-checks --help)" ;;
     *) break ;;
   esac
 done
@@ -122,6 +131,20 @@ tag=$(echo "$config" | sed 's/--//g; s/[^A-Za-z0-9=.]\{1,\}/_/g')
 work=${work:-/tmp/ru-pnr/$tag}
 out=${out:-$repo/synth/results/pnr/$unit}
 if [ "$fresh" = 1 ]; then rm -rf "$work"; fi
+if [ -n "$restore" ]; then
+  [ -f "$restore" ] || die "--restore: no such file '$restore'"
+  command -v xz >/dev/null 2>&1 || die "missing tool 'xz' (Debian package xz-utils)"
+  [ ! -d "$work/.done" ] || [ -z "$(ls -A "$work/.done")" ] ||
+    die "--restore: work directory $work already has finished steps (use --fresh to replace them)"
+  mkdir -p "$work"
+  xz -dc "$restore" | tar -C "$work" -xf - || die "--restore: cannot unpack '$restore'"
+  from=$(cat "$work/archived_from" 2>/dev/null || echo "")
+  now=$(cd "$work" && pwd)
+  if [ -n "$from" ] && [ "$from" != "$now" ]; then
+    grep -rlF --exclude-dir=log --exclude-dir=keep "$from" "$work" | while read -r f; do sed -i "s|$from|$now|g" "$f"; done
+  fi
+  echo "$prog: restored $restore into $now (archived from ${from:-?}; done: $(ls "$work/.done" | tr '\n' ' '))"
+fi
 mkdir -p "$work"/{source,synthesis,layout,log,keep,.done,.time} "$out/logs"
 work=$(cd "$work" && pwd)
 rm -f "$work/failures.txt"
@@ -366,5 +389,18 @@ for f in rayunits_synth.txt flatten.ys synth.log graywolf.par graywolf_iteration
 done
 cp "$work/keep/$top.sv" "$out/logs/" 2>/dev/null
 echo "$prog: wrote $out/summary.json ($(( $(date +%s) - t0_total )) s this call; steps total ${total_s} s)"
+if [ -n "$archive" ]; then
+  command -v xz >/dev/null 2>&1 || die "missing tool 'xz' (Debian package xz-utils)"
+  echo "$work" > "$work/archived_from"
+  mkdir -p "$(dirname "$archive")"
+  tmp="$archive.tmp.$$"
+  if tar -C "$work" --exclude='./layout/*.cel' --exclude='./layout/*.cel.bak' --exclude='./layout/*.scel' \
+       --exclude='./layout/*.pin' --exclude='./layout/*.pth' --exclude='./layout/*.sav' -cf - . | xz -T1 -6 > "$tmp"; then
+    mv "$tmp" "$archive"
+    echo "$prog: archived the work directory to $archive ($(stat -c %s "$archive") bytes; done: $(ls "$work/.done" | tr '\n' ' '))"
+  else
+    rm -f "$tmp"; echo "$prog: error: writing the archive $archive failed" >&2; exit 1
+  fi
+fi
 [ -s "$work/failures.txt" ] && { echo "$prog: failures:"; cat "$work/failures.txt"; exit 1; }
 exit 0

@@ -214,33 +214,28 @@ class SpecialDot3 final : public VectorSource {
   size_t i_ = 0, j_ = 0;
 };
 
-class ExhaustiveBinary final : public VectorSource {
+// Every op x every operand tuple, as a mixed-radix counter: op fastest, then the operands from
+// the last to the first (so a binary unit runs a-major, b, op-minor).
+class ExhaustiveTuples final : public VectorSource {
  public:
-  ExhaustiveBinary(const FpUnitSpec& s, const Format& f)
-      : s_(s), nops_(s.ops.size()), n_(1ull << f.width()), unary_(s.unary()), ternary_(s.ternary()) {}
+  ExhaustiveTuples(const FpUnitSpec& s, const Format& f)
+      : s_(s), nops_(s.ops.size()), n_(1ull << f.width()), k_(s.operands), total_(fp_exhaustive_count(s, f)) {}
   bool next(Record& r) override {
-    if (a_ >= n_) return false;
+    if (i_ >= total_) return false;
     r = Record{};
-    put_op(s_, r, op_);
-    r.v[0] = a_;
-    if (!unary_) r.v[1] = b_;
-    if (ternary_) r.v[2] = c_;
-    if (++op_ == nops_) {
-      op_ = 0;
-      if (!ternary_ || ++c_ == n_) {
-        c_ = 0;
-        if (unary_ || ++b_ == n_) b_ = 0, ++a_;
-      }
-    }
+    uint64_t v = i_++;
+    put_op(s_, r, v % nops_);
+    v /= nops_;
+    for (int p = k_ - 1; p >= 0; --p, v /= n_) r.v[p] = v % n_;
     return true;
   }
-  uint64_t total() const override { return nops_ * n_ * (unary_ ? 1 : n_) * (ternary_ ? n_ : 1); }
+  uint64_t total() const override { return total_; }
 
  private:
   const FpUnitSpec& s_;
   uint64_t nops_, n_;
-  bool unary_, ternary_;
-  uint64_t a_ = 0, b_ = 0, c_ = 0, op_ = 0;
+  int k_;
+  uint64_t total_, i_ = 0;
 };
 
 }  // namespace
@@ -258,16 +253,15 @@ std::unique_ptr<VectorSource> fp_random_source(const FpUnitSpec& s, const Format
 }
 
 uint64_t fp_exhaustive_count(const FpUnitSpec& s, const Format& f) {
-  return s.ops.size() << ((s.unary() ? 1 : s.ternary() ? 3 : 2) * f.width());
+  return s.ops.size() << (s.operands * f.width());
 }
 
 std::unique_ptr<VectorSource> fp_exhaustive_source(const FpUnitSpec& s, const Format& f) {
-  if (s.dot3) throw std::invalid_argument("fp_dot3 has six operands: no exhaustive source");
-  const int max_w = s.unary() ? 24 : s.ternary() ? 8 : 12;
+  const int max_w = s.unary() ? 24 : s.ternary() ? 8 : s.dot3 ? 4 : 12;
   if (f.width() > max_w)
-    throw std::invalid_argument(f.name() + " is too wide for an exhaustive run (at most " + std::to_string(max_w) +
-                                " bits)");
-  return std::make_unique<ExhaustiveBinary>(s, f);
+    throw std::invalid_argument(f.name() + " is too wide for an exhaustive run of " + s.unit->name + " (at most " +
+                                std::to_string(max_w) + " bits)");
+  return std::make_unique<ExhaustiveTuples>(s, f);
 }
 
 }  // namespace ru::tb

@@ -1,12 +1,12 @@
 // rayunits tb: the test plan of the floating-point units (fp_add, fp_mul, fp_div, fp_sqrt,
-// fp_fma, fp_cmp, fp_dot3). For each configuration <unit>_<cfg> (suite; Long_<unit>_<cfg> for long configs):
+// fp_fma, fp_cmp, fp_dot3, fp_dot3_fused). For each configuration <unit>_<cfg> (suite; Long_<unit>_<cfg> for long configs):
 //   special          every op x every pair of special values (TestFloat-style patterns; fp_sqrt:
 //                    every special value; fp_fma: every triple, the op cycling)
 //   random           weighted random operands (default 20,000; long configs 10^6; --vectors=N)
 //   reset            random operands with a reset every ~40 cycles (stale results, replay)
 //   exhaustive       every op x every operand pair, fp_sqrt every operand, fp_fma every op x
-//                    every triple (tagged "exhaustive")
-//   file_<name>      tb/vectors/<unit>*.txt whose format matches, and every --vector-file
+//                    every triple, the dot products every sextuple (4-bit formats; tagged "exhaustive")
+//   file_<name>      tb/vectors/<unit>.*.txt whose format matches, and every --vector-file
 //   inject_*         planted errors the harness must report (configurations tagged "selftest")
 // and, for fast configurations, Long_<unit>_<cfg>.random with 10^6 vectors (label long).
 #include <gtest/gtest.h>
@@ -87,8 +87,8 @@ void add_file_tests(const Ctx& c) {
   std::error_code ec;
   for (const auto& e : std::filesystem::directory_iterator(RU_TB_VECTOR_DIR, ec)) {
     const std::string fn = e.path().filename().string();
-    if (e.path().extension() == ".txt" && fn.rfind(c.cfg->unit, 0) == 0 &&
-        (fn.size() > c.cfg->unit.size() && (fn[c.cfg->unit.size()] == '.' || fn[c.cfg->unit.size()] == '_')))
+    // <unit>.<anything>.txt (a '.' after the name: fp_dot3.x.txt is not a file of fp_dot3_fused)
+    if (e.path().extension() == ".txt" && fn.rfind(c.cfg->unit + ".", 0) == 0)
       files.emplace_back(e.path().string(), false);
   }
   std::sort(files.begin(), files.end());
@@ -181,6 +181,7 @@ PlanRegistrar r_sqrt("fp_sqrt", fp_plan);
 PlanRegistrar r_fma("fp_fma", fp_plan);
 PlanRegistrar r_cmp("fp_cmp", fp_plan);
 PlanRegistrar r_dot3("fp_dot3", fp_plan);
+PlanRegistrar r_dot3f("fp_dot3_fused", fp_plan);
 
 }  // namespace
 }  // namespace ru::tb

@@ -146,7 +146,7 @@ TEST(SynthRegistry, PortWidthsFollowTheFormat) {
       }
       const int op_w = u.name == "fp_add" ? 1 : u.name == "fp_fma" ? 2 : u.name == "fp_cmp" ? 3 : 0;
       EXPECT_EQ(width.count("op_i") ? width["op_i"] : 0, op_w);
-      const int k = u.name == "fp_dot3" ? 3 : 1;
+      const int k = (u.name == "fp_dot3" || u.name == "fp_dot3_fused") ? 3 : 1;
       EXPECT_EQ(width["a_i"], k * w);
       if (u.name == "fp_sqrt")  // one operand
         EXPECT_EQ(width.count("b_i"), 0u);

@@ -28,7 +28,8 @@ int operands(FpShape s) {
     case FpShape::Unary: return 1;
     case FpShape::Binary: return 2;
     case FpShape::Ternary: return 3;
-    case FpShape::Dot3: return 6;
+    case FpShape::Dot3:
+    case FpShape::Dot3Fused: return 6;
   }
   return 0;
 }
@@ -69,6 +70,8 @@ GoldenEval fp_golden(const UnitConfig& c, FpShape shape, std::vector<FpOp> ops) 
     num::Result r;
     if (shape == FpShape::Dot3) {
       r = num::dot3(f, &in[0], &in[3]);
+    } else if (shape == FpShape::Dot3Fused) {
+      r = num::dot3_fused(f, &in[0], &in[3]);
     } else if (shape == FpShape::Ternary) {
       const uint64_t a = (o.neg & 2) ? num::neg(f, in[0]) : in[0];
       const uint64_t cc = (o.neg & 1) ? num::neg(f, in[2]) : in[2];
@@ -92,7 +95,7 @@ InputGen fp_inputs(const UnitConfig& c, uint64_t seed, FpShape shape, int nops) 
   const int n = operands(shape);
   return [st, shape, nops, n](uint64_t* in) {
     // The op is drawn first (also for one op: the stream of the testbench's former generator).
-    const uint64_t op = shape == FpShape::Dot3 ? 0 : util::bounded_lemire(st->rng, static_cast<uint64_t>(nops));
+    const uint64_t op = (shape == FpShape::Dot3 || shape == FpShape::Dot3Fused) ? 0 : util::bounded_lemire(st->rng, static_cast<uint64_t>(nops));
     switch (shape) {
       case FpShape::Dot3:
         st->gen.triple(in[0], in[1], in[2]);
@@ -102,6 +105,12 @@ InputGen fp_inputs(const UnitConfig& c, uint64_t seed, FpShape shape, int nops) 
           in[4] = num::neg(st->f, in[3]);
         }
         break;
+      case FpShape::Dot3Fused: {  // cancellation and alignment cases (OperandGen::dot3)
+        uint64_t a[3], b[3];
+        st->gen.dot3(a, b);
+        for (int i = 0; i < 3; ++i) in[i] = a[i], in[3 + i] = b[i];
+        break;
+      }
       case FpShape::Ternary: st->gen.triple(in[0], in[1], in[2]); break;  // near ties, c ~ -a*b
       case FpShape::Unary:  // sqrt: exact squares and squares of rounding midpoints, or anything
         in[0] = util::bounded_lemire(st->rng, 2) ? st->gen.sqrt_case() : st->gen.next();

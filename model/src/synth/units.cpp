@@ -134,7 +134,7 @@ std::vector<std::string> fp_long(const std::string& mid) {
 
 // Maximum useful Stages: the number of internal cut positions of the unit's register chain
 // (rtl/README.md, "Pipelining"), with L = csa_levels(M+1). FP units: add 6 segments, mul L+5,
-// div M+6, sqrt M+4, fma L+7, cmp 3, dot3 = mul + 2 add. The ray units place their registers on the chain of their
+// div M+6, sqrt M+4, fma L+7, cmp 3, dot3 = mul + 2 add, dot3_fused L+8. The ray units place their registers on the chain of their
 // levels' FP segments (one mechanism, rtl/README.md), so their maximum is the sum of the levels'
 // segment counts minus one: ray_box = add mul cmp cmp cmp, ray_tri_robust = add mul add mul add
 // add div cmp (4 add, 2 mul), ray_tri_mt = add mul add mul add add div mul add cmp (5 add, 3 mul).
@@ -190,6 +190,15 @@ std::vector<UnitSpec> make_units() {
                       {"e11m52:s0", "e11m52:s4", "e8m23:s3:rtz", "e8m23:s3:rdn", "e8m23:s3:rup", "e8m23-ftz:s2",
                        "e5m10-ftz:s2:rup", "e4m3:s2", "e5m2:s1"}));
   u.back().seg_weights_param = false;  // its FP instances get their cuts from its level chain
+  u.push_back(fp_unit("fp_dot3_fused", "fused 3-term dot product, the exact sum of the exact products rounded once",
+                      {fvec(in("a_i", "3*W", "{a2, a1, a0}, a0 in the low bits"), {"a0", "a1", "a2"}),
+                       fvec(in("b_i", "3*W", "{b2, b1, b0}, b0 in the low bits"), {"b0", "b1", "b2"})},
+                      "L+7", FpShape::Dot3Fused, {{Op::Fma}},
+                      {"e5m10:s0", "e5m10:smax+1", "e3m2:s2", "e4m3-ftz:s1:rdn", "e7m16:s3", "e8m23:s0",
+                       "e8m23:smax+1:selftest", "e2m1:s1:exhaustive"},
+                      {"e11m52:s0", "e11m52:s6", "e11m52:smax", "e8m23:s4:rtz", "e8m23:s4:rdn", "e8m23:s4:rup",
+                       "e8m23-ftz:s2", "e5m10-ftz:s2:rup", "e4m3:s2", "e5m2:s1", "e2m5:s3", "e6m1:s0",
+                       "e2m1:s0:rtz:exhaustive", "e2m1-ftz:s2:rup:exhaustive", "e2m1:s3:rdn:exhaustive"}));
   {
     // Conversions: F = the configuration's format, G = InExpW/InFracW/InSubnormals, IntW-bit integers.
     UnitSpec s;

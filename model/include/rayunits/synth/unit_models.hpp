@@ -21,7 +21,7 @@ struct FpOp {
   num::Op op;
   uint8_t neg = 0;
 };
-enum class FpShape : uint8_t { Unary, Binary, Ternary, Dot3 };
+enum class FpShape : uint8_t { Unary, Binary, Ternary, Dot3, Dot3Fused };
 // Records: operands in port order (a b c, or a0 a1 a2 b0 b1 b2), then op_i if the unit has one.
 GoldenEval fp_golden(const UnitConfig& c, FpShape shape, std::vector<FpOp> ops);
 InputGen fp_inputs(const UnitConfig& c, uint64_t seed, FpShape shape, int nops);
