@@ -337,7 +337,7 @@ TEST(CellFlowCli, ErrorLines) {
     if (x.seg_weights_param) own += (own.empty() ? "" : ", ") + x.name;
   for (const char* u : {"fp_add", "fp_mul", "fp_div", "fp_sqrt", "fp_fma", "fp_cmp"})
     EXPECT_NE(own.find(u), std::string::npos) << u;
-  EXPECT_EQ(own.find("fp_dot3"), std::string::npos);
+  EXPECT_EQ((", " + own + ", ").find(", fp_dot3, "), std::string::npos);  // fp_dot3_fused has its own
   expect_error("synth fp_dot3 --format e5m10 --stages 3 --flow osu018 --placement delay",
                "--placement delay: fp_dot3 places its registers through its sub-units' chain (units with their own "
                "placement: " + own + ")");
