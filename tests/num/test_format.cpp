@@ -590,47 +590,24 @@ TEST(Dispatch, ApplyEqualsTheEntryPoints) {
   }
 }
 
-class Dot3 : public ::testing::TestWithParam<std::pair<int, int>> {};
-TEST_P(Dot3, MatchesRoundedComposition) {
-  const auto [E, M] = GetParam();
-  for (bool sub : {true, false}) {
-    for (Round r : kRounds) {
-      const Format f = make_format(E, M, sub, r);
-      OperandGen gen(f, 21);
-      Checker chk("dot3 vs MPFR composition");
-      for (int i = 0; i < static_cast<int>(scaled(2000)) && !chk.done(); ++i) {
-        uint64_t a[3], b[3];
-        for (int k = 0; k < 3; ++k) gen.pair(a[k], b[k]);
-        const Result want = mpfr_dot3(f, a, b), got = dot3(f, a, b);
-        chk.count();
-        if (want.bits != got.bits || want.flags != got.flags) {
-          std::string m = fmt_name(f) + " " + rnd_name(r) + " dot3(";
-          for (int k = 0; k < 3; ++k)
-            m += describe(f, a[k]) + " * " + describe(f, b[k]) + (k < 2 ? ", " : ")");
-          chk.fail(m + ": expected " + describe(f, want.bits) + " " + flag_str(want.flags) + ", actual " +
-                   describe(f, got.bits) + " " + flag_str(got.flags));
-        }
-      }
-      EXPECT_TRUE(chk.ok()) << chk.report();
-    }
-  }
-}
-INSTANTIATE_TEST_SUITE_P(Grid, Dot3, ::testing::ValuesIn(grid_formats()), em_param_name);
-
-// dot3_fused (the model: exact GMP sum, one round_pack) against MPFR (exact products, mpfr_sum),
-// on OperandGen::dot3's cancellation and alignment cases. `dut` lets the planted tests below
-// run the same loop on a wrong implementation.
+// One loop for both dot products: `dut` against `oracle` (MPFR) on f, operands from OperandGen
+// (pair per product for dot3; dot3 for the fused one: cancellation and alignment cases). The
+// planted tests below run it on wrong implementations.
 using Dot3Fn = Result (*)(const Format&, const uint64_t*, const uint64_t*);
-Checker run_dot3_fused(const Format& f, uint64_t n, uint64_t seed, Dot3Fn dut) {
+Checker run_dot3(const Format& f, uint64_t n, uint64_t seed, bool fused, Dot3Fn oracle, Dot3Fn dut) {
   OperandGen gen(f, seed);
-  Checker chk("dot3_fused vs MPFR");
+  const std::string name = fused ? "dot3_fused" : "dot3";
+  Checker chk(name + " vs MPFR");
   for (uint64_t i = 0; i < n && !chk.done(); ++i) {
     uint64_t a[3], b[3];
-    gen.dot3(a, b);
-    const Result want = mpfr_dot3_fused(f, a, b), got = dut(f, a, b);
+    if (fused)
+      gen.dot3(a, b);
+    else
+      for (int k = 0; k < 3; ++k) gen.pair(a[k], b[k]);
+    const Result want = oracle(f, a, b), got = dut(f, a, b);
     chk.count();
     if (want.bits != got.bits || want.flags != got.flags) {
-      std::string m = fmt_name(f) + " " + rnd_name(f.round) + " dot3_fused(";
+      std::string m = fmt_name(f) + " " + rnd_name(f.round) + " " + name + "(";
       for (int k = 0; k < 3; ++k) m += describe(f, a[k]) + " * " + describe(f, b[k]) + (k < 2 ? ", " : ")");
       chk.fail(m + ": expected " + describe(f, want.bits) + " " + flag_str(want.flags) + ", actual " +
                describe(f, got.bits) + " " + flag_str(got.flags));
@@ -638,7 +615,24 @@ Checker run_dot3_fused(const Format& f, uint64_t n, uint64_t seed, Dot3Fn dut) {
   }
   return chk;
 }
+Checker run_dot3_fused(const Format& f, uint64_t n, uint64_t seed, Dot3Fn dut) {
+  return run_dot3(f, n, seed, true, mpfr_dot3_fused, dut);
+}
 
+// dot3: the composition of three products and two sums, against MPFR's composition.
+class Dot3 : public ::testing::TestWithParam<std::pair<int, int>> {};
+TEST_P(Dot3, MatchesRoundedComposition) {
+  const auto [E, M] = GetParam();
+  for (bool sub : {true, false}) {
+    for (Round r : kRounds) {
+      const Checker chk = run_dot3(make_format(E, M, sub, r), scaled(2000), 21, false, mpfr_dot3, dot3);
+      EXPECT_TRUE(chk.ok()) << chk.report();
+    }
+  }
+}
+INSTANTIATE_TEST_SUITE_P(Grid, Dot3, ::testing::ValuesIn(grid_formats()), em_param_name);
+
+// dot3_fused (the model: exact GMP sum, one round_pack) against MPFR (exact products, mpfr_sum).
 class Dot3Fused : public ::testing::TestWithParam<std::pair<int, int>> {};
 TEST_P(Dot3Fused, MatchesMpfrSum) {
   const auto [E, M] = GetParam();
