@@ -58,7 +58,7 @@ std::string self_exe() {
 // Each job's argv, parsed and checked by the command it runs (as far as that command can be
 // checked without running it).
 void check_job_argv(const sweep::Job& j) {
-  if (j.kind != "synth" && j.kind != "render") return;
+  if (j.kind != "synth" && j.kind != "render" && j.kind != "rtl") return;
   std::vector<std::string> args(j.argv.begin() + 1, j.argv.end());  // the command name is argv[0]
   std::vector<char*> av;
   for (auto& a : args) av.push_back(a.data());
@@ -67,6 +67,9 @@ void check_job_argv(const sweep::Job& j) {
   if (j.kind == "synth") {
     SynthCommand sc;
     parse_synth_command(ac, av.data(), sc);
+  } else if (j.kind == "rtl") {
+    RtlCommand rc;
+    parse_rtl_command(ac, av.data(), rc);
   } else {
     RenderCommand rc;
     parse_render_command(ac, av.data(), rc);

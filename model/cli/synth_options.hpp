@@ -12,6 +12,7 @@
 #include "cli_util.hpp"
 #include "command.hpp"
 #include "rayunits/num/format.hpp"
+#include "rayunits/rtl/cache.hpp"
 #include "rayunits/synth/args.hpp"
 #include "rayunits/synth/flow.hpp"
 #include "rayunits/synth/units.hpp"
@@ -216,5 +217,14 @@ struct SynthCommand {
   std::string json_out;
 };
 bool parse_synth_command(int argc, char** argv, SynthCommand& r);  // false: help was printed
+
+// A `rayunits rtl` command line, parsed and checked (cmd_rtl.cpp; `rayunits sweep` checks every
+// rtl job with it).
+struct RtlCommand {
+  rtl::Request req;
+  std::string json_out;
+  bool quiet = false;
+};
+bool parse_rtl_command(int argc, char** argv, RtlCommand& r);  // false: help was printed
 
 }  // namespace ru::cli

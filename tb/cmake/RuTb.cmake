@@ -31,6 +31,8 @@
 # "s4:FracBits=8". Names: e8m23_s3, e5m10_ftz_s2_rtz, s4_FracBits8.
 
 set(RU_TB_DIR ${CMAKE_CURRENT_LIST_DIR}/..)
+# Where the units' RTL is read from (`rayunits rtl --rtl DIR` points its build cache elsewhere).
+set(RU_TB_RTL_DIR ${PROJECT_SOURCE_DIR}/rtl CACHE PATH "RTL source directory of the Verilated units")
 
 # Verilator's runtime, shared by every Verilated executable of the project.
 if(NOT TARGET ru_tb_vlrt)
@@ -86,7 +88,7 @@ function(ru_tb_unit unit)
     endforeach()
   endif()
   set_property(GLOBAL PROPERTY RU_TB_UNIT_${unit}_MODULE ${top})
-  set_property(GLOBAL PROPERTY RU_TB_UNIT_${unit}_FILELIST "${PROJECT_SOURCE_DIR}/rtl/${fl}")
+  set_property(GLOBAL PROPERTY RU_TB_UNIT_${unit}_FILELIST "${RU_TB_RTL_DIR}/${fl}")
   set_property(GLOBAL PROPERTY RU_TB_UNIT_${unit}_SOURCES "")
   set_property(GLOBAL PROPERTY RU_TB_UNIT_${unit}_PORTS "${ports}")
   set_property(GLOBAL PROPERTY RU_TB_UNIT_${unit}_DEFAULTS "${defaults}")
@@ -521,4 +523,33 @@ function(ru_tb_add_tests target)
     gtest_discover_tests(${target} TEST_FILTER "Long*" PROPERTIES LABELS long DISCOVERY_TIMEOUT 120
       WORKING_DIRECTORY ${CMAKE_CURRENT_BINARY_DIR})
   endif()
+endfunction()
+
+# ru_tb_add_job(<target> UNIT <unit> CONFIG <cfg>)
+#   One executable of `rayunits rtl`'s build cache: the unit's test plan for one configuration,
+#   without tracing or a lint test, not registered with ctest (the rtl command runs it).
+function(ru_tb_add_job target)
+  cmake_parse_arguments(A "" "UNIT;CONFIG" "" ${ARGN})
+  ru_tb_unit(${A_UNIT})
+  file(READ ${RU_REGISTRY_JSON} reg)
+  string(JSON n LENGTH "${reg}" units)
+  math(EXPR last "${n} - 1")
+  foreach(i RANGE ${last})
+    string(JSON nm GET "${reg}" units ${i} name)
+    if(nm STREQUAL A_UNIT)
+      string(JSON large GET "${reg}" units ${i} large_model)
+      if(large)  # as ru_tb_registry_tests builds the unit's own tests
+        set(RU_TB_OPT_FAST ${RU_TB_LARGE_OPT})
+        set(RU_TB_OPT_SLOW ${RU_TB_LARGE_OPT})
+      endif()
+    endif()
+  endforeach()
+  _ru_tb_unit_sources(${target} ${A_UNIT} "${A_CONFIG}" srcs)
+  if(NOT srcs)
+    message(FATAL_ERROR "ru_tb_add_job(${target}): the RTL of ${A_UNIT} is missing or does not elaborate (see above)")
+  endif()
+  add_executable(${target} $<TARGET_OBJECTS:ru_tb_main>)
+  target_link_libraries(${target} PRIVATE ru_tb_units ru_tb_core rayunits_model GTest::gtest Threads::Threads)
+  target_compile_options(${target} PRIVATE ${RU_WARN})
+  ru_tb_add_models(${target} UNIT ${A_UNIT} CONFIGS ${A_CONFIG} NO_TRACE NO_LINT)
 endfunction()

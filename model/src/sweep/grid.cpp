@@ -14,6 +14,7 @@
 #include "rayunits/render/render.hpp"
 #include "rayunits/scene/scene.hpp"
 #include "rayunits/sweep/sweep.hpp"
+#include "rayunits/rtl/cache.hpp"
 #include "rayunits/synth/args.hpp"
 #include "rayunits/synth/cell.hpp"
 #include "rayunits/synth/flow.hpp"
@@ -161,12 +162,14 @@ std::string yosys_version_cached(const std::string& yosys) {
   return cache[yosys] = v;
 }
 
-std::string finish_synth(Job& j, const ExpandOptions&) {
+// The unit configuration of a synth or rtl job (keys unit, format, round, ftz, stages, param.X):
+// drops the format keys of units without a format, resolves stages = "max". Returns a reason
+// when the point lies outside the unit's Stages range (the job is skipped), else "".
+std::string unit_config_of(Job& j, synth::UnitConfig& c) {
   json& p = j.params;
   const synth::UnitSpec& u = synth::find_unit(p.at("unit").get<std::string>());
   if (!u.uses_format)
     for (const char* k : {"format", "round", "ftz"}) p.erase(k);
-  synth::UnitConfig c;
   if (u.uses_format) {
     if (!p.contains("format")) throw GridError("key 'format': required for unit " + u.name);
     c.fmt = num::Format::parse(p["format"].get<std::string>());
@@ -186,6 +189,14 @@ std::string finish_synth(Job& j, const ExpandOptions&) {
   } catch (const std::exception& e) {
     throw GridError(std::string("keys unit/format/stages/param: ") + e.what());
   }
+  return "";
+}
+
+std::string finish_synth(Job& j, const ExpandOptions&) {
+  json& p = j.params;
+  synth::UnitConfig c;
+  if (std::string skip = unit_config_of(j, c); !skip.empty()) return skip;
+  const synth::UnitSpec& u = synth::find_unit(p.at("unit").get<std::string>());
   // Flow option combinations (as `rayunits synth` checks them).
   const std::string flow = param_or(p, "flow", p.contains("clock") ? "osu018" : "generic");
   const bool cell = synth::is_cell_flow(flow);
@@ -218,14 +229,9 @@ std::string finish_synth(Job& j, const ExpandOptions&) {
   return "";
 }
 
-Kind synth_kind() {
-  Kind k;
-  k.name = "synth";
-  k.cmd = {"synth"};
-  k.required = {"unit", "stages"};
-  k.params_table = true;
-  auto flag = [](const char* n, const char* help) { return Key{n, T::Bool, std::string("--") + n, {}, {}, help}; };
-  k.keys = {
+// The keys of a unit configuration (synth and rtl jobs), and `rtl` (an RTL source directory).
+std::vector<Key> unit_keys() {
+  return {
       {"unit", T::Str, "", [](const json& v) { synth::find_unit(v.get<std::string>()); }, {}, "registry unit name"},
       {"format", T::Str, "--format", check_format, {}, "eXmY[-ftz]"},
       {"stages", T::IntOrMax, "--stages",
@@ -237,6 +243,24 @@ Kind synth_kind() {
        {}, "latency in cycles, or \"max\""},
       {"round", T::Str, "--round", one_of({"rne", "rtz", "rdn", "rup"}), {}, "rounding mode"},
       {"ftz", T::Bool, "--ftz", {}, {}, "flush to zero"},
+      {"rtl", T::Str, "--rtl",
+       [](const json& v) {
+         if (!fs::is_directory(v.get<std::string>()))
+           throw std::runtime_error("no such directory '" + v.get<std::string>() + "'");
+       },
+       {}, "RTL directory"},
+  };
+}
+
+Kind synth_kind() {
+  Kind k;
+  k.name = "synth";
+  k.cmd = {"synth"};
+  k.required = {"unit", "stages"};
+  k.params_table = true;
+  auto flag = [](const char* n, const char* help) { return Key{n, T::Bool, std::string("--") + n, {}, {}, help}; };
+  k.keys = unit_keys();
+  k.keys.insert(k.keys.end(), {
       {"flow", T::Str, "--flow", [](const json& v) { synth::check_flow_name(v.get<std::string>()); }, {},
        "generic, osu018, osu035, osu050"},
       {"clock", T::Str, "--clock", [](const json& v) { synth::parse_clock_list("clock", v.get<std::string>()); },
@@ -244,12 +268,6 @@ Kind synth_kind() {
       {"placement", T::Str, "--placement", one_of({"depth", "delay"}), {}, "register placement"},
       {"device", T::Str, "--device", one_of({"hx8k", "up5k"}), {}, "iCE40 device"},
       {"timeout", T::Int, "--timeout", int_range(1, 1000000), {}, "tool timeout in seconds"},
-      {"rtl", T::Str, "--rtl",
-       [](const json& v) {
-         if (!fs::is_directory(v.get<std::string>()))
-           throw std::runtime_error("no such directory '" + v.get<std::string>() + "'");
-       },
-       {}, "RTL directory"},
       {"yosys", T::Str, "--yosys", check_program, {}, "yosys binary"},
       {"sta", T::Str, "--sta", check_program, {}, "OpenSTA binary"},
       {"nextpnr", T::Str, "--nextpnr", check_program, {}, "nextpnr-ice40 binary"},
@@ -260,11 +278,42 @@ Kind synth_kind() {
       flag("fpga", "iCE40 place and route"),
       flag("no_share", "synth -noshare"),
       flag("stage_periods", "per-stage periods (cell flow)"),
-  };
+  });
   for (Key& key : k.keys)  // option names use dashes: generic_only -> --generic-only
     for (char& ch : key.option)
       if (ch == '_') ch = '-';
   k.finish = finish_synth;
+  return k;
+}
+
+// ---- rtl: one configuration under the scoreboard (rayunits rtl; builds cached by content) -----
+
+Kind rtl_kind() {
+  Kind k;
+  k.name = "rtl";
+  k.cmd = {"rtl"};
+  k.required = {"unit", "stages"};
+  k.params_table = true;
+  k.keys = unit_keys();
+  k.keys.push_back({"vectors", T::Int, "--vectors", int_range(1, 1000000000), {}, "random vectors per test"});
+  k.keys.push_back({"seed", T::Int, "--seed", int_range(0, 2000000000), {}, "seed of the random vectors"});
+  k.keys.push_back({"long", T::Bool, "--long", {}, {}, "also the plan's Long_ tests"});
+  k.finish = [](Job& j, const ExpandOptions&) {
+    synth::UnitConfig c;
+    if (std::string skip = unit_config_of(j, c); !skip.empty()) return skip;
+    rtl::Request r;
+    r.unit = &synth::find_unit(j.params.at("unit").get<std::string>());
+    r.cfg = c;
+    if (j.params.contains("rtl")) r.rtl_dir = j.params["rtl"].get<std::string>();
+    try {  // unit, configuration, RTL, harness and model sources, Verilator and compiler versions
+      j.deps["rtl_build"] = rtl::build_key(r).hash;
+    } catch (const rtl::RtlError& e) {
+      j.deps["rtl_build"] = "unavailable";  // the job fails with the command's own message
+    }
+    j.result = j.out_dir + "/rtl.jsonl";
+    j.argv.push_back("--json=" + j.result);
+    return std::string();
+  };
   return k;
 }
 
@@ -390,8 +439,47 @@ Kind render_kind() {
   return k;
 }
 
+// ---- trax: the chip model on a scene --------------------------------------------------------
+
+Kind trax_kind() {
+  Kind k;
+  k.name = "trax";
+  k.cmd = {"trax"};
+  auto parses = [](auto f) { return [f](const json& v) { f(v.get<std::string>()); }; };
+  k.keys = {
+      {"scene", T::Str, "--scene", check_scene, {}, "built-in scene"},
+      {"mesh", T::Str, "--mesh", check_existing_file, {}, "mesh file"},
+      {"up", T::Str, "--up", one_of({"y", "z"}), {}, "up axis of the mesh"},
+      {"format", T::Str, "--format", check_render_format, {}, "float or eXmY (chip.format)"},
+      {"tri", T::Str, "--tri", parses(render::parse_tri), {}, "robust | mt"},
+      {"traversal", T::Str, "--traversal", one_of({"stack", "stackless"}), {}, "BVH traversal"},
+      {"size", T::Str, "--size",
+       [](const json& v) {
+         int w, h;
+         render::parse_size(v.get<std::string>(), &w, &h);
+       },
+       {}, "WxH or N"},
+      {"config", T::Str, "--config", check_existing_file, {}, "chip configuration TOML"},
+      {"cosim", T::Bool, "--cosim", {}, {}, "co-simulate the units with their RTL"},
+  };
+  k.finish = [](Job& j, const ExpandOptions&) {
+    if (j.params.contains("mesh") == j.params.contains("scene"))
+      throw GridError("key 'scene'/'mesh': a trax job needs exactly one of scene and mesh");
+    if (j.params.contains("format") && j.params["format"].get<std::string>() == "double")
+      throw GridError("key 'format': the chip model takes float or eXmY, not double");
+    for (const char* f : {"mesh", "config"})
+      if (j.params.contains(f)) j.deps[f] = file_hash(j.params[f].get<std::string>());
+    j.result = j.out_dir + "/summary.json";
+    j.argv.push_back("--out=" + j.out_dir);
+    j.argv.push_back("--quiet");
+    return std::string();
+  };
+  return k;
+}
+
 const std::vector<Kind>& kinds() {
-  static const std::vector<Kind> k = {synth_kind(), study_box_kind(), study_tri_kind(), render_kind()};
+  static const std::vector<Kind> k = {synth_kind(), rtl_kind(), study_box_kind(), study_tri_kind(), render_kind(),
+                                      trax_kind()};
   return k;
 }
 
@@ -485,12 +573,10 @@ void expand_one(const Ctx& cx, const toml::table& t, std::size_t grid_index, con
                 const std::string& tool, Expansion& out, std::set<std::string>& hashes) {
   const std::string pre = grid_index == SIZE_MAX ? "" : "grid[" + std::to_string(grid_index) + "].";
   const toml::node* kn = t.get("kind");
-  if (!kn) cx.fail(nullptr, pre + "kind", "missing (kinds: synth, study, render)");
+  if (!kn) cx.fail(nullptr, pre + "kind", "missing (kinds: synth, rtl, study, render, trax)");
   const auto kv = kn->value_exact<std::string>();
-  if (!kv) cx.fail(kn, pre + "kind", "must be a string (kinds: synth, study, render)");
+  if (!kv) cx.fail(kn, pre + "kind", "must be a string (kinds: synth, rtl, study, render, trax)");
   std::string kind = *kv;
-  if (kind == "rtl" || kind == "trax")
-    cx.fail(kn, pre + "kind", "'" + kind + "' is not supported yet (kinds: synth, study, render)");
   if (kind == "study") {
     const toml::node* sn = t.get("study");
     const auto sv = sn ? sn->value_exact<std::string>() : std::nullopt;
@@ -499,7 +585,7 @@ void expand_one(const Ctx& cx, const toml::table& t, std::size_t grid_index, con
     kind += " " + *sv;
   }
   const Kind* k = find_kind(kind);
-  if (!k) cx.fail(kn, pre + "kind", "unknown kind '" + kind + "' (kinds: synth, study, render)");
+  if (!k) cx.fail(kn, pre + "kind", "unknown kind '" + kind + "' (kinds: synth, rtl, study, render, trax)");
 
   std::vector<Axis> axes;
   for (const auto& [kk, v] : t) {

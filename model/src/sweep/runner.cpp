@@ -106,13 +106,19 @@ json csv_value(const std::string& s) {
   return s;
 }
 
-// The typed result a job wrote: JSON Lines (synth --json), CSV with a header line (the studies'
+// The typed result a job wrote: JSON Lines (synth --json, rtl --json), one JSON value (trax), CSV with a header line (the studies'
 // tables; "# ..." lines skipped) or a picture (render: its path and size).
 json read_result(const fs::path& file, const std::string& rel) {
   if (!fs::is_regular_file(file)) throw std::runtime_error("no result file " + rel);
   json rows = json::array();
   const std::string ext = file.extension().string();
-  if (ext == ".jsonl" || ext == ".json") {
+  if (ext == ".json") {  // one JSON value (trax's summary.json): an object is one row
+    json v = json::parse(slurp(file.string()));
+    if (v.is_array())
+      rows = v;
+    else
+      rows.push_back(v);
+  } else if (ext == ".jsonl") {
     std::istringstream in(slurp(file.string()));
     for (std::string line; std::getline(in, line);)
       if (!line.empty()) rows.push_back(json::parse(line));
