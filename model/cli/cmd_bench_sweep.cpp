@@ -2,6 +2,9 @@
 // one run — throughput of CPU-bound jobs with 1 and 2 local workers (the speedup ratio), and the
 // engine's overhead per job on trivial jobs (sweep wall time minus the jobs' own wall times).
 // Jobs are `study box` runs (kind "study", one seed per job), each sweep in a fresh directory.
+// Then the Verilator build cache of `rtl` jobs: one grid of scoreboard runs swept twice, each time
+// in a fresh sweep directory, against one fresh cache: the hit rate of the first sweep and of the
+// repeated one, and the wall time of a job that builds against one that hits.
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -44,6 +47,35 @@ SweepTime time_sweep(const std::string& grid, int workers, const fs::path& dir) 
   return t;
 }
 
+struct CacheFigures {
+  std::size_t jobs = 0, hits_first = 0, hits_repeat = 0;
+  double miss_job_s = 0, hit_job_s = 0;  // medians of the jobs' wall_s
+};
+
+// `rtl` jobs of fp_add at e4m3, Stages 0..n-1 (few vectors: the build is what is measured).
+CacheFigures time_rtl_cache(int configs, const fs::path& dir) {
+  std::string stages;
+  for (int i = 0; i < configs; ++i) stages += (i ? ", " : "") + std::to_string(i);
+  const std::string g = "kind = \"rtl\"\nunit = \"fp_add\"\nformat = \"e4m3\"\nvectors = 200\nstages = [" + stages + "]\n";
+  ::setenv("RU_RTL_CACHE", (dir / "cache").c_str(), 1);  // the jobs' cache: fresh
+  CacheFigures f;
+  std::vector<double> miss, hit;
+  for (int pass = 0; pass < 2; ++pass) {
+    const fs::path d = dir / (pass ? "repeat" : "first");
+    time_sweep(g, 1, d);
+    for (const auto& r : sweep::read_results(d.string())) {
+      const bool h = r.at("result").at(0).value("cache_hit", false);
+      (pass ? f.hits_repeat : f.hits_first) += h;
+      (h ? hit : miss).push_back(r.value("wall_s", 0.0));
+      f.jobs += pass == 0;
+    }
+  }
+  ::unsetenv("RU_RTL_CACHE");
+  f.miss_job_s = miss.empty() ? 0 : median(miss);
+  f.hit_job_s = hit.empty() ? 0 : median(hit);
+  return f;
+}
+
 std::string grid(int jobs, long pairs) {
   std::string seeds;
   for (int i = 1; i <= jobs; ++i) seeds += (i > 1 ? ", " : "") + std::to_string(i);
@@ -54,7 +86,7 @@ std::string grid(int jobs, long pairs) {
 int run_bench_sweep(int argc, char** argv) {
   CLI::App app{"Sweep engine speed: CPU-bound jobs with 1 and 2 workers (speedup), engine overhead per trivial "
                "job; medians of --repeats runs, each sweep in a fresh temporary directory"};
-  int cpu_jobs = 8, trivial_jobs = 40, repeats = 3;
+  int cpu_jobs = 8, trivial_jobs = 40, repeats = 3, rtl_configs = 4;
   long pairs = 300000;
   std::string json;
   app.add_option("--cpu-jobs", cpu_jobs, "CPU-bound jobs per sweep")->check(CLI::Range(2, 1000));
@@ -63,6 +95,9 @@ int run_bench_sweep(int argc, char** argv) {
   app.add_option("--trivial-jobs", trivial_jobs, "trivial jobs (one pair each) for the overhead")
       ->check(CLI::Range(1, 100000));
   app.add_option("--repeats", repeats, "runs of each measurement (median reported)")->check(CLI::Range(1, 100));
+  app.add_option("--rtl-configs", rtl_configs,
+                 "rtl jobs (fp_add e4m3 Stages 0..N-1) swept twice against a fresh build cache (0: skip)")
+      ->check(CLI::Range(0, 6));
   app.add_option("--json", json, "also write the figures as JSON here");
   if (!parse_args(app, argc, argv)) return 0;
   util::install_interrupt_handler();
@@ -90,13 +125,25 @@ int run_bench_sweep(int argc, char** argv) {
   std::printf("trivial (%d x study box 1 pair): median %.1f ms/job wall, engine overhead median %.1f ms/job "
               "(wall minus the jobs' own wall time)\n",
               trivial_jobs, median(per_job_ms), median(over_ms));
-  std::printf("Verilator build cache hit rate: n/a (the sweep has no rtl kind yet)\n");
+  CacheFigures cf;
+  if (rtl_configs > 0) {
+    std::fprintf(stderr, "[bench sweep] Verilator build cache: %d rtl jobs, swept twice\n", rtl_configs);
+    cf = time_rtl_cache(rtl_configs, fs::path(tmp.path()) / "rtl");
+    std::printf("Verilator build cache (%zu rtl jobs, fp_add e4m3 Stages 0..%d, a fresh cache): hit rate %zu/%zu "
+                "on the first sweep, %zu/%zu on the repeated sweep; job wall time median %.2f s building, "
+                "%.2f s on a hit\n",
+                cf.jobs, rtl_configs - 1, cf.hits_first, cf.jobs, cf.hits_repeat, cf.jobs, cf.miss_job_s,
+                cf.hit_job_s);
+  }
   if (!json.empty()) {
     nlohmann::ordered_json j = {{"cpu_jobs", cpu_jobs},           {"pairs", pairs},
                                 {"trivial_jobs", trivial_jobs},   {"repeats", repeats},
                                 {"one_worker_s", median(t1)},     {"two_workers_s", median(t2)},
                                 {"speedup", median(speedup)},     {"ms_per_trivial_job", median(per_job_ms)},
-                                {"overhead_ms_per_job", median(over_ms)}};
+                                {"overhead_ms_per_job", median(over_ms)},
+                                {"rtl_jobs", cf.jobs},            {"rtl_hits_first", cf.hits_first},
+                                {"rtl_hits_repeat", cf.hits_repeat}, {"rtl_miss_job_s", cf.miss_job_s},
+                                {"rtl_hit_job_s", cf.hit_job_s}};
     synth::write_file_atomic(json, j.dump(1) + "\n");
   }
   return 0;
@@ -104,7 +151,8 @@ int run_bench_sweep(int argc, char** argv) {
 
 }  // namespace
 
-RU_COMMAND("bench sweep", "sweep engine speed: 1 vs 2 workers on CPU-bound jobs, overhead per trivial job",
+RU_COMMAND("bench sweep",
+           "sweep engine speed: 1 vs 2 workers on CPU-bound jobs, overhead per trivial job, Verilator cache hit rate",
            run_bench_sweep);
 
 }  // namespace ru::cli

@@ -523,7 +523,7 @@ std::string key_list(const Kind& k) {
 json read_value(const Ctx& cx, const Key& key, const toml::node& n, const std::string& name) {
   std::optional<json> v = typed(n, key.type);
   if (!v) cx.fail(&n, name, "must be " + type_name(key.type) + (n.is_array() ? " (no nested arrays)" : ""));
-  if (v->is_string() && (key.name == "rtl" || key.name == "trace" || key.name == "mesh")) {  // paths
+  if (v->is_string() && (key.name == "rtl" || key.name == "trace" || key.name == "mesh" || key.name == "config")) {
     fs::path p(v->get<std::string>());
     if (!p.empty() && p.is_relative()) *v = (cx.base / p).lexically_normal().string();
   }
