@@ -17,13 +17,15 @@ std::string sweep_help() {
              "usage: rayunits synth-sweep --out DIR [--units a,b] [--formats eXmY,...] [--stages 0,1,2,max]\n"
              "                            [--round MODE] [-j N] [--resume] [--no-plot] [--python PATH]\n"
              "                            [flow options]\n\n"
-             "Synthesizes every (unit, format, stages) point in parallel (progress on stderr) and writes\n"
-             "DIR/synth_sweep.csv, DIR/synth_sweep.json (meta + one row per point, as `synth --json`),\n"
-             "DIR/points/<top>.json and DIR/synth_sweep.png (area vs fraction bits, Fmax vs stages).\n"
+             "Synthesizes every (unit, format, stages) point as one grid of the sweep engine (`rayunits\n"
+             "synth` jobs on -j workers, progress on stderr; job list, logs and rows in DIR/sweep/) and\n"
+             "writes DIR/synth_sweep.csv, DIR/synth_sweep.json (meta + one row per point, as `synth\n"
+             "--json`) and DIR/synth_sweep.png (area vs fraction bits, Fmax vs stages).\n"
              "Stage counts above a unit's maximum are skipped; \"max\" is each unit's maximum.\n\n"
              "defaults: --units fp_add,fp_mul,fp_div --formats e5m10,e6m12,e7m16,e8m23\n"
              "          --stages 0,1,2,3,4,max -j 2\n"
-             "  --resume      reuse DIR/points/*.json written by an earlier run with the same flow options\n\n") +
+             "  --resume      reuse the points in DIR/sweep/ with the same content hash (parameters, flow\n"
+             "                options, RTL sources, tool versions); without it every point runs again\n\n") +
          kFlowOptionsHelp;
 }
 
@@ -59,6 +61,8 @@ int run_sweep_cmd(int argc, char** argv) {
     throw UsageError("synth-sweep runs the generic flow only; for " + so.flow.flow +
                      " run `rayunits synth ... --flow " + so.flow.flow + " --clock LIST` per point (synth/cell/)");
   if (app.count("--netlist")) throw UsageError("--netlist applies to one unit (rayunits synth), not to a sweep");
+  if (so.flow.keep_temp)
+    throw UsageError("--keep applies to one unit (rayunits synth); a sweep keeps every point's log in DIR/sweep/logs");
   if (so.out_dir.empty()) throw UsageError("--out DIR is required");
   synth::install_interrupt_handler();
   const int failed = synth::run_sweep(so, [](const std::string& s) {

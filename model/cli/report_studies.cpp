@@ -479,7 +479,7 @@ std::string synthesis_section(Context& ctx) {
     md += ru::report::md_table({"unit", "format", "stages", "area est. (NAND2-eq)", "register bits", "depth (gates)",
                                 "stage est. (ps, fo4-v1)", "iCE40 LUTs", "iCE40 Fmax (MHz)"},
                                t);
-    md += "\nData: [synth/synth_sweep.csv](synth/synth_sweep.csv), one JSON per point in `synth/points/`; tool "
+    md += "\nData: [synth/synth_sweep.csv](synth/synth_sweep.csv), the sweep engine's job list, logs and rows in `synth/sweep/`; tool "
           "output in [synth.txt](synth.txt).\n\n";
     if (ctx.opts.plots) md += "![area vs fraction bits, Fmax vs stages](synth/synth_sweep.png)\n\n";
   }

@@ -1,4 +1,5 @@
-// Synthesis sweeps: parallel points, progress on stderr, CSV/JSON/PNG output.
+// Synthesis sweeps (`rayunits synth-sweep`): the points run as one grid of the sweep engine, then
+// the CSV/JSON/PNG tables of synth_sweep.* are written from the jobs' typed rows.
 #include "rayunits/synth/sweep.hpp"
 
 #include <algorithm>
@@ -12,11 +13,12 @@
 #include <set>
 #include <sstream>
 
+#include "rayunits/sweep/sweep.hpp"
 #include "rayunits/synth/args.hpp"
 #include "rayunits/synth/process.hpp"
 #include "rayunits/util/csv.hpp"
 #include "rayunits/util/git.hpp"
-#include "rayunits/util/parallel.hpp"
+#include "rayunits/util/process.hpp"
 
 namespace ru::synth {
 namespace fs = std::filesystem;
@@ -132,115 +134,105 @@ std::string sweep_csv(const json& rows) {
   return s;
 }
 
+// The grid file of a synth-sweep: kind synth, the unit/format/stages axes and the flow options
+// as keys (docs/SWEEPS.md); strings quoted as JSON strings (valid TOML basic strings).
+std::string sweep_grid(const SweepOptions& o) {
+  auto q = [](const std::string& v) { return json(v).dump(); };
+  auto axis = [&](const std::vector<std::string>& vs, bool stages) {
+    std::string a;
+    for (const auto& v : vs) a += (a.empty() ? "" : ", ") + (stages && v != "max" ? v : q(v));
+    return "[" + a + "]";
+  };
+  const FlowOptions& f = o.flow;
+  std::string g = "# written by rayunits synth-sweep: " + o.command + "\nkind = \"synth\"\n";
+  g += "unit = " + axis(o.units, false) + "\nformat = " + axis(o.formats, false) + "\nstages = " +
+       axis(o.stages, true) + "\nround = " + q(o.round) + "\n";
+  if (!f.ice40 && !f.pnr) g += "no_ice40 = true\n";
+  if (!f.xilinx) g += "no_xilinx = true\n";
+  if (f.pnr) g += "fpga = true\n";
+  if (f.ice40_device != "hx8k") g += "device = " + q(f.ice40_device) + "\n";
+  if (!f.share) g += "no_share = true\n";
+  if (f.timeout_s > 0) g += "timeout = " + std::to_string(f.timeout_s) + "\n";
+  if (!f.rtl_dir.empty()) g += "rtl = " + q(fs::absolute(f.rtl_dir).string()) + "\n";
+  if (f.yosys != "yosys") g += "yosys = " + q(f.yosys) + "\n";
+  if (f.nextpnr != "nextpnr-ice40") g += "nextpnr = " + q(f.nextpnr) + "\n";
+  return g;
+}
+
 SweepResult run_sweep_rows(const SweepOptions& o, const std::function<void(const std::string&)>& progress) {
   if (o.out_dir.empty()) throw SynthError("--out DIR is required");
   std::vector<std::string> skipped;
-  const std::vector<SweepPoint> pts = sweep_points(o, &skipped);
+  const std::vector<SweepPoint> pts = sweep_points(o, &skipped);  // validates units, formats, stages
   const std::string yv = yosys_version(o.flow.yosys);
   if (o.flow.pnr && find_program(o.flow.nextpnr).empty())
     throw SynthError("nextpnr-ice40 not found ('" + o.flow.nextpnr + "'): install it or drop --fpga");
   const std::string rtl_dir = o.flow.rtl_dir.empty() ? default_rtl_dir() : o.flow.rtl_dir;
   std::map<std::string, std::string> hash_at_start;  // unit -> sources_hash
   for (const auto& p : pts) hash_at_start[p.unit->name] = sources_hash(resolve_sources(*p.unit, rtl_dir));
-  std::error_code ec;
-  fs::create_directories(fs::path(o.out_dir) / "points", ec);
-  if (ec) throw SynthError("cannot create '" + o.out_dir + "/points': " + ec.message());
   const std::string sig = flow_signature(o.flow);
   for (const auto& s : skipped) progress("skipped " + s);
-
-  std::vector<json> rows(pts.size());
-  std::atomic<int> done{0}, failed{0};
-  std::mutex mu;
   const auto t0 = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+
+  // The points run as one grid of the sweep engine (rayunits/sweep/sweep.hpp) in DIR/sweep:
+  // each a `rayunits synth` child process, resumable by content hash (--resume), logs per job.
+  const std::string grid = sweep_grid(o);
+  sweep::Expansion ex;
+  try {
+    ex = sweep::expand_grid(grid, "synth-sweep grid");
+  } catch (const sweep::GridError& e) {
+    throw SynthError(e.what());
+  }
+  const std::string sweep_dir = (fs::path(o.out_dir) / "sweep").string();
   {
-    char b[128];
-    std::snprintf(b, sizeof b, "synth-sweep: %zu points, %d jobs, flow %s", pts.size(), std::max(1, o.jobs),
-                  sig.c_str());
+    char b[160];
+    std::snprintf(b, sizeof b, "synth-sweep: %zu points, %d jobs, flow %s, engine directory %s", pts.size(),
+                  std::max(1, o.jobs), sig.c_str(), sweep_dir.c_str());
     progress(b);
   }
-  // Points are handed out one at a time to o.jobs threads; an interrupt stops the handout.
-  util::ParallelOptions po;
-  po.stop = [] { return interrupted(); };
-  util::parallel_for(pts.size(), std::max(1, o.jobs), [&](size_t i) {
-      const SweepPoint& p = pts[i];
-      const std::string top = wrapper_name(*p.unit, p.cfg);
-      const std::string point_file = (fs::path(o.out_dir) / "points" / (top + ".json")).string();
-      json row;
-      bool reused = false;
-      if (o.resume && fs::exists(point_file)) {
-        try {
-          json saved = json::parse(read_file(point_file));
-          if (saved.value("flow", "") == sig && saved.contains("row") && !saved["row"].contains("error") &&
-              saved["row"].value("rtl_hash", "") == hash_at_start[p.unit->name]) {
-            row = saved["row"];
-            reused = true;
-          }
-        } catch (const std::exception&) {
-        }
-      }
-      if (!reused) {
-        try {
-          row = to_json(run_synth(*p.unit, p.cfg, o.flow));
-        } catch (const std::exception& e) {
-          if (interrupted()) return;  // not a result: the point stays to be done by --resume
-          const bool uf = p.unit->uses_format;
-          row = {{"unit", p.unit->name},
-                 {"top", top},
-                 {"format", uf ? json(p.cfg.fmt.name()) : json(nullptr)},
-                 {"exp_bits", uf ? json(p.cfg.fmt.exp_bits) : json(nullptr)},
-                 {"frac_bits", uf ? json(p.cfg.fmt.frac_bits) : json(nullptr)},
-                 {"width", uf ? json(p.cfg.fmt.width()) : json(nullptr)},
-                 {"stages", p.cfg.stages},
-                 {"round", uf ? json(num::round_name(p.cfg.fmt.round)) : json(nullptr)},
-                 {"error", e.what()}};
-          ++failed;
-        }
-        try {
-          write_file_atomic(point_file, json{{"flow", sig}, {"row", row}}.dump() + "\n");
-        } catch (const SynthError&) {
-        }
-      }
-      rows[i] = row;
-      const int d = ++done;
-      std::ostringstream m;
-      char head[64];
-      std::snprintf(head, sizeof head, "[%*d/%zu] ", static_cast<int>(std::to_string(pts.size()).size()), d,
-                    pts.size());
-      m << head << config_args(*p.unit, p.cfg) << ": ";
-      if (row.contains("error")) {
-        m << "FAILED: " << row["error"].get<std::string>();
-      } else {
-        char b[256];
-        std::snprintf(b, sizeof b, "area %.0f NAND2-eq, depth %d, est. %.0f MHz",
-                      row["area_nand2"].get<double>(), row["depth"].get<int>(),
-                      row["fmax_est_mhz"].get<double>());
-        m << b;
-        if (!row["ice40"].is_null()) {
-          const json& ic = row["ice40"];
-          if (!ic["fits"].get<bool>())
-            m << ", iCE40 does not fit";
-          else if (!ic["fmax_mhz"].is_null()) {
-            std::snprintf(b, sizeof b, ", iCE40 %ld LUT %.1f MHz", ic["luts"].get<long>(),
-                          ic["fmax_mhz"].get<double>());
-            m << b;
-          } else {
-            m << ", iCE40 " << ic["luts"].get<long>() << " LUT";
-          }
-        }
-        std::snprintf(b, sizeof b, " (%s%.1f s)", reused ? "reused, " : "", row.value("seconds", 0.0));
-        m << b;
-      }
-      const double el = elapsed();
-      m << "  elapsed " << hms(el);
-      if (d < static_cast<int>(pts.size())) m << ", ETA " << hms(el / d * (pts.size() - d));
-      std::lock_guard<std::mutex> lock(mu);
-      progress(m.str());
-  }, po);
-  if (interrupted())
-    throw SynthError("interrupted after " + std::to_string(done.load()) + " of " +
-                     std::to_string(pts.size()) + " points (finished points are in " + o.out_dir +
-                     "/points; rerun with --resume)");
+  sweep::RunOptions ro;
+  ro.dir = sweep_dir;
+  ro.jobs = std::max(1, o.jobs);
+  ro.force = !o.resume;
+  ro.exe = o.exe.empty() ? util::self_exe() : o.exe;
+  ro.grid_text = grid;
+  ro.timeout_s = 0;
+  ro.progress = progress;
+  const sweep::RunSummary sum = sweep::run_jobs(ex.jobs, ro);
+  if (sum.interrupted || interrupted())
+    throw SynthError("interrupted (finished points are in " + sweep_dir + "; rerun with --resume)");
+
+  // Rows in grid order (unit, format, stages), from the jobs' typed results.
+  std::map<std::string, json> by_hash;
+  for (const json& r : sweep::read_results(sweep_dir)) by_hash[r.value("hash", "")] = r;
+  auto point_key = [](const std::string& unit, const std::string& fmt, int stages) {
+    return unit + "|" + fmt + "|" + std::to_string(stages);
+  };
+  std::map<std::string, json> by_point;
+  for (const sweep::Job& j : ex.jobs)
+    by_point[point_key(j.params.value("unit", ""), j.params.value("format", ""), j.params.value("stages", 0))] =
+        by_hash.count(j.hash) ? by_hash[j.hash] : json{{"status", "not run"}, {"error", "no result"}};
+  std::vector<json> rows;
+  int failed = 0;
+  for (const SweepPoint& p : pts) {
+    const bool uf = p.unit->uses_format;
+    const json& r = by_point[point_key(p.unit->name, uf ? p.cfg.fmt.name() : "", p.cfg.stages)];
+    if (r.value("status", "") == "ok" && !r.value("result", json::array()).empty()) {
+      rows.push_back(r["result"][0]);
+      continue;
+    }
+    ++failed;
+    rows.push_back({{"unit", p.unit->name},
+                    {"top", wrapper_name(*p.unit, p.cfg)},
+                    {"format", uf ? json(p.cfg.fmt.name()) : json(nullptr)},
+                    {"exp_bits", uf ? json(p.cfg.fmt.exp_bits) : json(nullptr)},
+                    {"frac_bits", uf ? json(p.cfg.fmt.frac_bits) : json(nullptr)},
+                    {"width", uf ? json(p.cfg.fmt.width()) : json(nullptr)},
+                    {"stages", p.cfg.stages},
+                    {"round", uf ? json(num::round_name(p.cfg.fmt.round)) : json(nullptr)},
+                    {"error", r.value("error", std::string("failed")) + " (log " + sweep_dir + "/" +
+                                  r.value("log", std::string("logs/")) + ")"}});
+  }
 
   json all = json::array();
   for (auto& r : rows) all.push_back(r);
@@ -267,6 +259,7 @@ SweepResult run_sweep_rows(const SweepOptions& o, const std::function<void(const
                 {"finished", started},
                 {"wall_seconds", std::round(elapsed() * 10) / 10},
                 {"jobs", std::max(1, o.jobs)},
+                {"sweep_dir", "sweep"},
                 {"skipped", skipped},
                 {"rtl_hash", hash_at_start},
                 {"rtl_changed_during_sweep", changed}}},
@@ -302,7 +295,7 @@ SweepResult run_sweep_rows(const SweepOptions& o, const std::function<void(const
     progress("wrote " + png + " and " + png.substr(0, png.size() - 4) + ".md");
   }
   SweepResult res;
-  res.failed = failed.load();
+  res.failed = failed;
   for (const auto& r : all) res.rows.push_back(sweep_row(r));
   return res;
 }

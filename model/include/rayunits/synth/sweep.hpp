@@ -1,6 +1,6 @@
-// rayunits: synthesis sweeps (`rayunits synth-sweep`): a grid of (unit, format, stages) points
-// synthesized in parallel, collected as CSV + JSON and plotted (area vs fraction bits, Fmax vs
-// stages) by synth/plot_sweep.py.
+// rayunits: synthesis sweeps (`rayunits synth-sweep`): a grid of (unit, format, stages) points run
+// by the sweep engine (rayunits/sweep/sweep.hpp) as `rayunits synth` jobs, collected as CSV + JSON
+// and plotted (area vs fraction bits, Fmax vs stages) by synth/plot_sweep.py.
 #pragma once
 
 #include <cmath>
@@ -22,11 +22,14 @@ struct SweepOptions {
   std::string round = "rne";
   int jobs = 2;
   std::string out_dir;
-  bool resume = false;  // reuse points/<top>.json from an earlier run of the same flow options
+  // Reuse the points of an earlier run in DIR/sweep (the sweep engine's results with the same
+  // content hash: parameters, flow options, RTL sources, Yosys and rayunits versions).
+  bool resume = false;
   bool plot = true;
   std::string python;   // empty: /usr/bin/python3 if present, else python3 on PATH
   std::string command;  // recorded in the output
   FlowOptions flow;
+  std::string exe;      // the rayunits binary the points run (empty: this process's executable)
 };
 
 struct SweepPoint {
@@ -60,8 +63,13 @@ struct SweepResult {
 // run_sweep, also returning the rows (the report's synthesis tables are built from them).
 SweepResult run_sweep_rows(const SweepOptions& o, const std::function<void(const std::string&)>& progress);
 
+// The sweep engine's grid (TOML) of these options: kind "synth", axes unit/format/stages, the flow
+// options as keys.
+std::string sweep_grid(const SweepOptions& o);
+
 // Runs the sweep, writing into o.out_dir: synth_sweep.csv, synth_sweep.json (meta + rows),
-// points/<top>.json (one row per point, reused by --resume) and synth_sweep.png.
+// sweep/ (the engine's directory: jobs.jsonl, results.jsonl, a log per point; --resume reuses
+// its ok rows) and synth_sweep.png.
 // Progress lines go to `progress` (stderr in the CLI). Returns the number of failed points.
 int run_sweep(const SweepOptions& o, const std::function<void(const std::string&)>& progress);
 
