@@ -52,7 +52,7 @@ TEST(RtlCache, BuildsOnceHitsAfterwardsCatchesAPlantedErrorAndSweeps) {
   EXPECT_EQ(a["unit"], "fp_add");
   EXPECT_TRUE(fs::exists(cache / "bin" / a["key"].get<std::string>() / "tb"));
   EXPECT_TRUE(fs::exists(cache / "bin" / a["key"].get<std::string>() / "manifest.json"));
-  EXPECT_NE(r1.out.find("results checked"), std::string::npos) << "the scoreboard did not run:\n" << r1.out;
+  EXPECT_NE((r1.out + r1.err).find("results checked"), std::string::npos) << "the scoreboard did not run:\n" << r1.out;
 
   // 2. Same configuration again: a hit, same key, still run (not a cached verdict).
   auto r2 = run_rayunits(with({"--json", "-", "--quiet"}), 300);
@@ -62,7 +62,7 @@ TEST(RtlCache, BuildsOnceHitsAfterwardsCatchesAPlantedErrorAndSweeps) {
   EXPECT_EQ(b["build_s"].get<double>(), 0);
   EXPECT_EQ(b["key"], a["key"]);
   EXPECT_EQ(b["status"], "pass");
-  EXPECT_NE(r2.out.find("results checked"), std::string::npos);
+  EXPECT_NE((r2.out + r2.err).find("results checked"), std::string::npos);
 
   // 3. A planted error in a copy of the RTL: a new key, built, and caught by the scoreboard.
   const fs::path rtl = t.p / "rtl";
@@ -98,7 +98,9 @@ TEST(RtlCache, BuildsOnceHitsAfterwardsCatchesAPlantedErrorAndSweeps) {
     const json& res = r["result"][0];
     EXPECT_EQ(res["status"], "pass");
     hits += res["cache_hit"].get<bool>();
-    if (res["stages"] == 1) EXPECT_TRUE(res["cache_hit"].get<bool>()) << res.dump();
+    if (res["stages"] == 1) {
+      EXPECT_TRUE(res["cache_hit"].get<bool>()) << res.dump();
+    }
   }
   EXPECT_EQ(hits, 1);
   EXPECT_NE(ru::test::slurp(t.p / "sw" / "results.csv").find("cache_hit"), std::string::npos);
@@ -117,7 +119,7 @@ TEST(RtlCache, BadInputIsOneLineExit2) {
   };
   const std::vector<Case> cases = {
       {{"rtl", "fp_addd", "--format", "e5m10", "--stages", "0"}, "unknown unit 'fp_addd'"},
-      {{"rtl", "fp_add", "--format", "e5m10", "--stages", "99"}, "Stages"},
+      {{"rtl", "fp_add", "--format", "e5m10", "--stages", "99"}, "supports --stages 0..5, got 99"},
       {{"rtl", "fp_add", "--format", "e1m10", "--stages", "0"}, "e1m10"},
       {{"rtl", "fp_add", "--format", "e5m10", "--stages", "0", "--vectors", "0"}, "--vectors"},
       {{"rtl", "fp_add", "--format", "e5m10", "--stages", "0", "--rtl", "/nonexistent"}, "--rtl"},
