@@ -61,8 +61,6 @@ int run_sweep_cmd(int argc, char** argv) {
     throw UsageError("synth-sweep runs the generic flow only; for " + so.flow.flow +
                      " run `rayunits synth ... --flow " + so.flow.flow + " --clock LIST` per point (synth/cell/)");
   if (app.count("--netlist")) throw UsageError("--netlist applies to one unit (rayunits synth), not to a sweep");
-  if (so.flow.keep_temp)
-    throw UsageError("--keep applies to one unit (rayunits synth); a sweep keeps every point's log in DIR/sweep/logs");
   if (so.out_dir.empty()) throw UsageError("--out DIR is required");
   synth::install_interrupt_handler();
   const int failed = synth::run_sweep(so, [](const std::string& s) {

@@ -10,6 +10,8 @@
 
 #include "cli_util.hpp"
 #include "render_common.hpp"
+#include "rayunits/rtl/cache.hpp"
+#include "rayunits/synth/process.hpp"
 #include "rayunits/trax/cosim.hpp"
 #include "rayunits/trax/trax.hpp"
 
@@ -22,7 +24,7 @@ int run_trax_cmd(int argc, char** argv) {
   SceneArgs sa;
   sa.add(app);
   std::string config_path, format, tri, traversal, size = "32x32", out, profile_path;
-  bool quiet = false, cosim = false;
+  bool quiet = false, cosim = false, cosim_build = false;
   std::set<std::string> profile_units;
   int64_t cosim_inject = -1;
   app.add_option("--config", config_path, "TOML configuration (model/data/trax/default.toml documents every key)");
@@ -38,6 +40,9 @@ int run_trax_cmd(int argc, char** argv) {
   app.add_flag("--cosim", cosim,
                "co-simulate the box, triangle and noise units with their Verilated RTL (tb_trax_cosim next to "
                "this binary, or $RU_TRAX_COSIM): every result compared bit for bit");
+  app.add_flag("--cosim-build", cosim_build,
+               "--cosim against a companion with exactly this chip's box, triangle and noise configurations (format, "
+               "Stages), built or reused from the rtl build cache ($RU_RTL_CACHE, docs/SWEEPS.md)");
   app.add_option("--cosim-inject", cosim_inject,
                  "test only: flip bit 0 of the golden result of the N-th co-simulated operation (must be caught)");
   if (!parse_args(app, argc, argv)) return 0;
@@ -91,6 +96,7 @@ int run_trax_cmd(int argc, char** argv) {
 
   std::string command = "rayunits trax";
   for (int i = 1; i < argc; ++i) command += std::string(" ") + argv[i];
+  if (cosim_build) cosim = true;
   if (cosim_inject >= 0 && !cosim) throw UsageError("--cosim-inject needs --cosim");
   std::unique_ptr<trax::cosim::Client> client;
   if (cosim) {
@@ -100,7 +106,15 @@ int run_trax_cmd(int argc, char** argv) {
     } catch (const trax::ConfigError& e) {
       throw UsageError(e.what());
     }
-    client = std::make_unique<trax::cosim::Client>(trax::cosim::default_executable(), cosim_inject);
+    std::string companion = trax::cosim::default_executable();
+    if (cosim_build) {
+      rtl::CosimRequest req;
+      req.units = trax::cosim::companion_units(rc);
+      if (!quiet) req.progress = [](const std::string& l) { std::fprintf(stderr, "%s\n", l.c_str()); };
+      synth::install_interrupt_handler();
+      companion = rtl::ensure_cosim(req).exe;
+    }
+    client = std::make_unique<trax::cosim::Client>(companion, cosim_inject);
     try {
       client->start(rc);
     } catch (const std::runtime_error& e) {

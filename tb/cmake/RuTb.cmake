@@ -553,3 +553,24 @@ function(ru_tb_add_job target)
   target_compile_options(${target} PRIVATE ${RU_WARN})
   ru_tb_add_models(${target} UNIT ${A_UNIT} CONFIGS ${A_CONFIG} NO_TRACE NO_LINT)
 endfunction()
+
+# ru_tb_add_cosim_job(<target> <unit>:<config>...)
+#   The TRaX co-simulation companion (tb/trax/cosim_main.cpp) with exactly these unit
+#   configurations, for `rayunits trax --cosim-build` (model/src/rtl/cache.cpp); models at -O1
+#   and without tracing, as tb/trax builds tb_trax_cosim.
+function(ru_tb_add_cosim_job target)
+  set(RU_TB_OPT_FAST -O1)  # function scope: shadows the cache variables
+  set(RU_TB_OPT_SLOW -O1)
+  add_executable(${target} ${RU_TB_DIR}/trax/cosim_main.cpp)
+  target_link_libraries(${target} PRIVATE ru_tb_core rayunits_model Threads::Threads)
+  target_compile_options(${target} PRIVATE ${RU_WARN})
+  foreach(uc ${ARGN})
+    if(NOT uc MATCHES "^([a-z0-9_]+):(.+)$")
+      message(FATAL_ERROR "ru_tb_add_cosim_job(${target}): '${uc}' is not <unit>:<config>")
+    endif()
+    set(u ${CMAKE_MATCH_1})
+    set(c ${CMAKE_MATCH_2})
+    ru_tb_unit(${u})
+    ru_tb_add_models(${target} UNIT ${u} CONFIGS ${c} NO_TRACE NO_LINT)
+  endforeach()
+endfunction()

@@ -7,11 +7,13 @@
 
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
 
 #include "../common/run_rayunits.hpp"
+#include "rayunits/util/process.hpp"
 #include "rayunits/num/format.hpp"
 #include "rayunits/synth/units.hpp"
 #include "../common/temp_dir.hpp"
@@ -164,3 +166,51 @@ TEST(GenProfile, BadInputIsOneLineAndWritesNothing) {
 }
 
 }  // namespace
+
+// The scene runs on the chip model with --cosim against exactly the units `gen --from-profile`
+// generated (issue 17 §3): `trax --from-profile P --cosim-build` builds (rtl build cache) a
+// companion whose ray_box / ray_tri_robust / noise configurations are the generated units' own
+// RTL parameters (datasheet.json "parameters": format, Stages, options), and every unit result of
+// the frame equals the RTL's bit for bit.
+TEST(GenProfile, SceneCosimulatedAgainstExactlyTheGeneratedUnits) {
+  Dir d;
+  const auto prof = write_profile(
+      d.p, {"fp_add", "fp_mul", "fp_div", "fp_sqrt", "fp_cmp", "ray_box", "ray_tri_robust", "noise"}, "e5m10");
+  const auto chip = d.p / "chip";
+  ASSERT_EQ(ru::test::run_rayunits({"gen", "--from-profile", prof.string(), "--out", chip.string(), "--no-synth"}).code, 0);
+  const fs::path cache = d.p / "cache";
+  setenv("RU_RTL_CACHE", cache.c_str(), 1);
+  const auto r = ru::test::run_rayunits({"trax", "--scene", "default", "--from-profile", prof.string(), "--size",
+                                         "4x4", "--cosim-build", "--out", (d.p / "trax").string()},
+                                        1200);
+  unsetenv("RU_RTL_CACHE");
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  EXPECT_NE(r.out.find("unit results equal to the RTL bit for bit (box="), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("box=0 "), std::string::npos) << r.out;
+  EXPECT_EQ(r.out.find("tri=0 "), std::string::npos) << r.out;
+  // The companion's configurations (its --list) against the generated units' datasheets.
+  std::string exe;
+  for (const auto& e : fs::directory_iterator(cache / "bin"))
+    if (read_json(e.path() / "manifest.json").value("kind", "") == "cosim") exe = (e.path() / "tb").string();
+  ASSERT_FALSE(exe.empty()) << "no co-simulation companion in the cache";
+  ru::util::ProcessOptions o;
+  o.out = ru::util::Redirect::capture();
+  const auto list = ru::util::run_process({exe, "--list"}, o);
+  ASSERT_EQ(list.exit_code, 0);
+  std::map<std::string, json> built;  // unit -> parameters
+  std::istringstream in(list.out);
+  for (std::string line; std::getline(in, line);) {
+    const std::string name = line.substr(0, line.find(':'));
+    std::string unit;
+    for (const char* u : {"ray_box", "ray_tri_robust", "noise"})
+      if (name.rfind(u, 0) == 0) unit = u;
+    ASSERT_FALSE(unit.empty()) << line;
+    std::istringstream kv(line.substr(line.find(':') + 1));
+    for (std::string t; kv >> t;) built[unit][t.substr(0, t.find('='))] = std::stoll(t.substr(t.find('=') + 1));
+  }
+  ASSERT_EQ(built.size(), 3u) << list.out;
+  for (const char* u : {"ray_box", "ray_tri_robust", "noise"}) {
+    SCOPED_TRACE(u);
+    EXPECT_EQ(built[u], read_json(chip / u / "datasheet.json")["parameters"]);
+  }
+}

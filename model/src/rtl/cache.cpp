@@ -27,7 +27,7 @@ using json = nlohmann::json;
 
 namespace {
 
-std::string source_dir_of(const Request& r) {
+std::string source_dir_of(const CacheOptions& r) {
   if (!r.source_dir.empty()) return fs::absolute(r.source_dir).lexically_normal().string();
 #ifdef RU_SOURCE_DIR
   return RU_SOURCE_DIR;
@@ -36,7 +36,7 @@ std::string source_dir_of(const Request& r) {
 #endif
 }
 
-void say(const Request& r, const std::string& line) {
+void say(const CacheOptions& r, const std::string& line) {
   if (r.progress) r.progress(line);
 }
 
@@ -91,7 +91,7 @@ std::string harness_hash(const std::string& src) {
 // An exclusive flock on `path` for the object's lifetime (blocking; a line while it waits).
 class FileLock {
  public:
-  FileLock(const std::string& path, const Request& r) {
+  FileLock(const std::string& path, const CacheOptions& r) {
     fd_ = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
     if (fd_ < 0) throw RtlError("cannot open the lock file '" + path + "'");
     if (::flock(fd_, LOCK_EX | LOCK_NB) == 0) return;
@@ -165,33 +165,43 @@ std::string tb_config(const synth::UnitSpec& u, const synth::UnitConfig& c) {
   return s;
 }
 
-Key build_key(const Request& r) {
-  if (!r.unit) throw RtlError("no unit");
-  const std::string src = source_dir_of(r);
-  const std::string rtl = r.rtl_dir.empty() ? synth::default_rtl_dir() : r.rtl_dir;
-  Key k;
+// The parts every key has: the harness and model sources and the tools.
+void common_parts(const CacheOptions& o, json& parts) {
+  parts["tb_hash"] = harness_hash(source_dir_of(o));
+  parts["verilator"] = tool_version({"verilator", "--version"}, "verilator");
+  parts["compiler"] = tool_version({"c++", "--version"}, "g++");
+}
+
+std::string rtl_hash_of(const CacheOptions& o, const synth::UnitSpec& u) {
   try {
-    k.parts["rtl_hash"] = synth::sources_hash(synth::resolve_sources(*r.unit, rtl));
+    return synth::sources_hash(synth::resolve_sources(u, o.rtl_dir.empty() ? synth::default_rtl_dir() : o.rtl_dir));
   } catch (const std::exception& e) {
     throw RtlError(e.what());
   }
+}
+
+Key build_key(const Request& r) {
+  if (!r.unit) throw RtlError("no unit");
+  Key k;
+  k.parts["rtl_hash"] = rtl_hash_of(r, *r.unit);
   k.parts["unit"] = r.unit->name;
   k.parts["config"] = tb_config(*r.unit, r.cfg);
-  k.parts["tb_hash"] = harness_hash(src);
-  k.parts["verilator"] = tool_version({"verilator", "--version"}, "verilator");
-  k.parts["compiler"] = tool_version({"c++", "--version"}, "g++");
+  common_parts(r, k.parts);
   k.hash = util::fnv1a64_hex(k.parts.dump());
   return k;
 }
 
-Build ensure_built(const Request& r) {
-  const Key k = build_key(r);
+namespace {
+
+// The cached executable of key k, or its build: `spec` declares the target in the cache's build
+// tree (RU_TB_JOB_CONFIGS for a test executable, RU_TB_COSIM_JOB for a companion; target name
+// "tbjob_<key>").
+Build ensure_product(const CacheOptions& r, const Key& k, const std::string& what, bool cosim, const std::string& spec) {
   const fs::path cache = fs::absolute(r.cache_dir.empty() ? default_cache_dir() : r.cache_dir);
   const fs::path bin = cache / "bin" / k.hash;
   Build b;
   b.key = k.hash;
   b.exe = (bin / "tb").string();
-  const std::string what = r.unit->name + " " + k.parts["config"].get<std::string>();
   if (fs::exists(b.exe)) {
     b.hit = true;
     say(r, "rtl: " + what + ": cache hit " + k.hash);
@@ -223,7 +233,8 @@ Build ensure_built(const Request& r) {
   std::vector<std::vector<std::string>> steps = {
       {"cmake", "-S", src, "-B", build.string(), "-G", "Ninja", "-DCMAKE_BUILD_TYPE=Release", "-DRU_TB=ON",
        "-DRU_TB_JOBS_ONLY=ON", "-DRU_TB_RTL_DIR=" + rtl,
-       "-DRU_TB_JOB_CONFIGS=" + target + "=" + r.unit->name + ":" + k.parts["config"].get<std::string>()},
+       "-DRU_TB_JOB_CONFIGS=" + (cosim ? std::string() : target + "=" + spec),
+       "-DRU_TB_COSIM_JOB=" + (cosim ? target + "=" + spec : std::string())},
       {"cmake", "--build", build.string(), "--target", target, "-j", jobs},
   };
   for (const auto& argv : steps) {
@@ -258,6 +269,30 @@ Build ensure_built(const Request& r) {
   fs::remove(built, ec);
   say(r, "rtl: " + what + ": built in " + std::to_string(static_cast<int>(b.seconds + 0.5)) + " s");
   return b;
+}
+
+}  // namespace
+
+Build ensure_built(const Request& r) {
+  const Key k = build_key(r);
+  const std::string cfg = k.parts["config"].get<std::string>();
+  return ensure_product(r, k, r.unit->name + " " + cfg, false, r.unit->name + ":" + cfg);
+}
+
+Build ensure_cosim(const CosimRequest& r) {
+  if (r.units.empty()) throw RtlError("a co-simulation companion needs at least one unit");
+  Key k;
+  k.parts["kind"] = "cosim";
+  std::string spec, what;
+  for (const auto& [u, c] : r.units) {
+    const std::string cfg = tb_config(*u, c);
+    k.parts["units"].push_back({{"unit", u->name}, {"config", cfg}, {"rtl_hash", rtl_hash_of(r, *u)}});
+    spec += (spec.empty() ? "" : "|") + u->name + ":" + cfg;
+    what += (what.empty() ? "" : ", ") + u->name + " " + cfg;
+  }
+  common_parts(r, k.parts);
+  k.hash = util::fnv1a64_hex(k.parts.dump());
+  return ensure_product(r, k, "co-simulation of " + what, true, spec);
 }
 
 json to_json(const Row& r) {

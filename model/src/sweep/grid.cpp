@@ -278,6 +278,7 @@ Kind synth_kind() {
       flag("fpga", "iCE40 place and route"),
       flag("no_share", "synth -noshare"),
       flag("stage_periods", "per-stage periods (cell flow)"),
+      flag("keep", "keep the tool's temp directory (its path in the log)"),
   });
   for (Key& key : k.keys)  // option names use dashes: generic_only -> --generic-only
     for (char& ch : key.option)

@@ -156,6 +156,7 @@ std::string sweep_grid(const SweepOptions& o) {
   if (!f.rtl_dir.empty()) g += "rtl = " + q(fs::absolute(f.rtl_dir).string()) + "\n";
   if (f.yosys != "yosys") g += "yosys = " + q(f.yosys) + "\n";
   if (f.nextpnr != "nextpnr-ice40") g += "nextpnr = " + q(f.nextpnr) + "\n";
+  if (f.keep_temp) g += "keep = true\n";
   return g;
 }
 

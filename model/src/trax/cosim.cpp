@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 #include <unistd.h>
@@ -27,6 +28,26 @@ std::string header_line(const Config& c) {
   o << kProtocol << " format=" << fmt << " tms=" << c.tms << " box=" << unit(Unit::Box, c.box)
     << " tri=" << unit(Unit::Tri, c.tri) << " noise=" << unit(Unit::Noise, c.noise);
   return o.str();
+}
+
+std::vector<std::pair<const synth::UnitSpec*, synth::UnitConfig>> companion_units(const Config& c) {
+  num::Format f = num::Format::parse(c.format == "float" ? "e8m23" : c.format);
+  auto at = [&](const char* unit, Unit u, std::map<std::string, long long> params) {
+    const synth::UnitSpec* s = &synth::find_unit(unit);
+    synth::UnitConfig k;
+    k.fmt = f;
+    k.stages = c.unit(u).latency;
+    k.params = std::move(params);
+    return std::make_pair(s, k);
+  };
+  std::vector<std::pair<const synth::UnitSpec*, synth::UnitConfig>> v;
+  v.push_back(at("ray_box", Unit::Box, {{"OptConservative", c.box == "conservative" ? 1 : 0}}));
+  if (c.tri == "mt")
+    v.push_back(at("ray_tri_mt", Unit::Tri, {{"OptEpsTest", 0}, {"OptVolOut", 0}}));
+  else
+    v.push_back(at("ray_tri_robust", Unit::Tri, {{"OptTieBreak", 0}, {"OptEpsTest", 0}, {"OptVolOut", 0}}));
+  v.push_back(at("noise", Unit::Noise, {{"FracBits", 8}, {"IntBits", 8}, {"OutW", 10}}));
+  return v;
 }
 
 std::string default_executable() {

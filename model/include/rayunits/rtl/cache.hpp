@@ -37,19 +37,30 @@ struct RtlError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-struct Request {
+// Where the cache is and what it builds from (every request).
+struct CacheOptions {
+  std::string rtl_dir;            // "" : synth::default_rtl_dir()
+  std::string cache_dir;          // "" : default_cache_dir()
+  std::string source_dir;         // "" : the checkout rayunits was built from
+  // Progress lines (cache hit or miss, build steps); may be empty.
+  std::function<void(const std::string&)> progress;
+};
+
+struct Request : CacheOptions {
   const synth::UnitSpec* unit = nullptr;
   synth::UnitConfig cfg;
   std::uint64_t vectors = 20000;  // random vectors per test of the plan (the tb's --vectors)
   std::uint64_t seed = 1;         // the tb's --seed
-  std::string rtl_dir;            // "" : synth::default_rtl_dir()
-  std::string cache_dir;          // "" : default_cache_dir()
-  std::string source_dir;         // "" : the checkout rayunits was built from
   double timeout_s = 0;           // > 0: the test run is killed after that long (status "timeout")
   bool build_only = false;        // build (or find) the executable, run nothing
   bool long_tests = false;        // also the plan's Long_* tests (ctest label long)
-  // Progress lines (cache hit or miss, build steps); may be empty.
-  std::function<void(const std::string&)> progress;
+};
+
+// The TRaX co-simulation companion (tb/trax/cosim_main.cpp) with exactly these unit
+// configurations (`rayunits trax --cosim-build`): cached like a test executable, keyed by every
+// unit's configuration and RTL plus the harness, model and tools.
+struct CosimRequest : CacheOptions {
+  std::vector<std::pair<const synth::UnitSpec*, synth::UnitConfig>> units;
 };
 
 // $RU_RTL_CACHE, else $XDG_CACHE_HOME/rayunits/rtl, else $HOME/.cache/rayunits/rtl.
@@ -72,10 +83,11 @@ struct Build {
   bool hit = false;     // found in the cache (no build by this call)
   double seconds = 0;   // this call's build time (0 on a hit)
 };
-// Returns the cached executable or builds it (serialized per build tree; a build that another
+// Returns the cached test executable or builds it (serialized per build tree; a build that another
 // process finished while this one waited for the lock counts as a hit). Throws RtlError with the
 // build log's path on failure; nothing is left in bin/ for a failed build.
 Build ensure_built(const Request& r);
+Build ensure_cosim(const CosimRequest& r);  // the same, for a co-simulation companion
 
 // One typed result row (the sweep's `rtl` kind stores it; to_json is its one serializer).
 struct Row {

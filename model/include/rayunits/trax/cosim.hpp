@@ -18,9 +18,14 @@
 //     at the end "DONE <counts>\n" or, at the first mismatch, "MISMATCH ...\n" + report lines
 //     (then it exits with status 1 without reading further).
 #pragma once
+
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
+
+#include "rayunits/synth/units.hpp"
 #include <sys/types.h>
 #include <vector>
 
@@ -46,6 +51,13 @@ static_assert(sizeof(Record) == 32, "cosim::Record layout");
 // "rayunits-trax-cosim 1 format=e8m23 tms=4 box=plain:L:S tri=robust:L:S noise=fixed:L:S"
 // (L = latency, S = issue slots per TM = count x width; cfg must be resolved: resolve_config).
 std::string header_line(const Config& cfg);
+
+// The RTL configurations the companion must have for this resolved chip: ray_box (OptConservative
+// by chip.box), ray_tri_robust or ray_tri_mt (no tie-break, eps test or volume outputs) and noise
+// (FracBits 8, IntBits 8, OutW 10), each in the chip's format at its latency as Stages — what
+// tb/trax/cosim_main.cpp looks for when it reads header_line(). `rayunits trax --cosim-build`
+// builds exactly these (rtl::ensure_cosim).
+std::vector<std::pair<const synth::UnitSpec*, synth::UnitConfig>> companion_units(const Config& cfg);
 
 // The companion next to this rayunits binary: $RU_TRAX_COSIM if set, else
 // <build>/tb/trax/tb_trax_cosim for <build>/model/cli/rayunits (from /proc/self/exe).
