@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <map>
 #include <mutex>
 #include <filesystem>
 #include <fstream>
@@ -229,6 +230,11 @@ TEST_F(Sweep, BadGridsGiveOneLineNamingTheKeyExit2AndWriteNothing) {
       {"rtl unknown key", "kind='rtl'\nunit='fp_add'\nformat='e5m10'\nstages=0\nflow='osu018'\n",
        "key 'flow': unknown key for kind rtl"},
       {"rtl bad vectors", "kind='rtl'\nunit='fp_add'\nformat='e5m10'\nstages=0\nvectors=0\n", "key 'vectors'"},
+      {"watertight bad scene", "kind='study'\nstudy='watertight'\nscene='teapot'\nformat='e5m10'\n",
+       "key 'scene': unknown closed mesh 'teapot'"},
+      {"image without frac", "kind='study'\nstudy='image'\nscene='default'\nexp=8\n", "key 'frac': required"},
+      {"noise bad size", "kind='study'\nstudy='noise'\nsize=100\n", "key 'size': expects a power of two"},
+      {"unknown study", "kind='study'\nstudy='teapot'\n", "key 'study': kind \"study\" needs study = "},
       {"trax double", "kind='trax'\nscene='default'\nformat='double'\n", "key 'format': the chip model takes float"},
       {"trax bad traversal", "kind='trax'\nscene='default'\ntraversal='dfs'\n", "key 'traversal'"},
       {"missing kind", "unit='fp_add'\n", "key 'kind': missing"},
@@ -260,6 +266,43 @@ TEST_F(Sweep, BadGridsGiveOneLineNamingTheKeyExit2AndWriteNothing) {
     EXPECT_FALSE(fs::exists(out)) << "a bad grid wrote " << out;
     EXPECT_TRUE(r.out.empty());
   }
+}
+
+// The study kinds watertight, image and noise (and trax) run and give typed rows from their tables.
+TEST_F(Sweep, StudyAndTraxKindsRunAndGiveTypedRows) {
+  const fs::path g = grid("g.toml",
+                          "[[grid]]\nkind='study'\nstudy='watertight'\nscene='icosphere'\nformat='e5m10'\n"
+                          "tri=['robust','exact']\nrays=200\n"
+                          "[[grid]]\nkind='study'\nstudy='image'\nscene='default'\nexp=8\nfrac=10\nsize='8x8'\n"
+                          "[[grid]]\nkind='study'\nstudy='noise'\nsize=64\nerror_samples=500\nrange_samples=500\n"
+                          "min_bits=6\nmax_bits=6\n"
+                          "[[grid]]\nkind='trax'\nscene='default'\nformat='e7m16'\nsize='4x4'\n");
+  const CmdRun r = sweep({g.string(), "--out", (dir() / "o").string(), "-j", "2"});
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::map<std::string, int> rows;
+  for (const json& row : read_results((dir() / "o").string())) {
+    EXPECT_EQ(row["status"], "ok") << row.dump();
+    const json& res = row["result"];
+    ASSERT_FALSE(res.empty());
+    rows[row["kind"]] += static_cast<int>(res.size());
+    if (row["kind"] == "study watertight") {
+      EXPECT_EQ(res[0]["edge_rays"].get<long>() > 0, true) << res.dump();
+      if (row["params"]["tri"] == "exact") {
+        EXPECT_EQ(res[0]["edge_leaks"], 0);
+        EXPECT_EQ(res[0]["edge_double_hits"], 0);
+      }
+    }
+    if (row["kind"] == "study image") {
+      EXPECT_EQ(res[0]["pixels"], 64);
+    }
+    if (row["kind"] == "trax") {
+      EXPECT_GT(res[0]["cycles"].get<long>(), 0);
+    }
+  }
+  EXPECT_EQ(rows["study watertight"], 2);
+  EXPECT_EQ(rows["study image"], 2);  // robust and mt
+  EXPECT_GE(rows["study noise"], 1);
+  EXPECT_EQ(rows["trax"], 1);
 }
 
 // Shell metacharacters in grid values: rejected by the option's check or passed literally as one

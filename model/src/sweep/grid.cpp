@@ -20,6 +20,7 @@
 #include "rayunits/synth/flow.hpp"
 #include "rayunits/synth/process.hpp"
 #include "rayunits/synth/units.hpp"
+#include "rayunits/units/mesh.hpp"
 #include "rayunits/util/git.hpp"
 #include "rayunits/util/hash.hpp"
 
@@ -440,6 +441,110 @@ Kind render_kind() {
   return k;
 }
 
+// ---- study watertight / study image / study noise ----------------------------------------------
+
+Kind study_watertight_kind() {
+  Kind k;
+  k.name = "study watertight";
+  k.cmd = {"study", "watertight"};
+  k.keys = {
+      {"scene", T::Str, "--scene",
+       [](const json& v) {
+         const std::string names = units::builtin_mesh_names();  // "icosphere, icosphere4, ..."
+         std::istringstream in(names);
+         for (std::string n; std::getline(in >> std::ws, n, ',');)
+           if (n == v.get<std::string>()) return;
+         throw std::runtime_error("unknown closed mesh '" + v.get<std::string>() + "' (scenes: " + names + ")");
+       },
+       {}, "built-in closed mesh"},
+      {"mesh", T::Str, "--mesh", check_existing_file, {}, "closed mesh file"},
+      {"format", T::Str, "--format", check_format, {}, "eXmY[-ftz]"},
+      {"tri", T::Str, "--tri", one_of({"robust", "mt", "exact"}), {}, "robust | mt | exact"},
+      {"rays", T::Int, "--rays", int_range(2, 1ll << 40), {}, "rays per class"},
+      {"near_vertex", T::Int, "--near-vertex", int_range(0, 1ll << 40), {}, "rays aimed near vertices"},
+      {"scale", T::Num, "--scale", num_range(1e-30, 1e30), {}, "coordinate scale"},
+      {"seed", T::Int, "--seed", int_range(0, 1ll << 62), {}, "random seed"},
+      {"threads", T::Int, "--threads", int_range(1, 64), {}, "worker threads of the job"},
+      {"tie_break", T::Bool, "--tie-break", {}, {}, "robust: Fig. 3.6's tie-break"},
+  };
+  k.finish = [](Job& j, const ExpandOptions&) {
+    if (j.params.contains("mesh") == j.params.contains("scene"))
+      throw GridError("key 'scene'/'mesh': a watertight study needs exactly one of scene and mesh");
+    if (j.params.contains("mesh")) j.deps["mesh"] = file_hash(j.params["mesh"].get<std::string>());
+    j.result = j.out_dir + "/watertight.csv";
+    j.argv.push_back("--csv=" + j.result);
+    j.argv.push_back("--quiet");
+    return std::string();
+  };
+  return k;
+}
+
+Kind study_image_kind() {
+  Kind k;
+  k.name = "study image";
+  k.cmd = {"study", "image"};
+  auto parses = [](auto f) { return [f](const json& v) { f(v.get<std::string>()); }; };
+  auto single = [](const char* opt) {
+    return [opt](const json& v) { return std::vector<std::string>{std::string(opt) + "=" + value_text(v)}; };
+  };
+  k.keys = {
+      {"scene", T::Str, "--scene", check_scene, {}, "built-in scene"},
+      {"mesh", T::Str, "--mesh", check_existing_file, {}, "mesh file"},
+      {"up", T::Str, "--up", one_of({"y", "z"}), {}, "up axis of the mesh"},
+      {"exp", T::Int, "--exp", int_range(2, 11), single("--exp"), "exponent bits of the job"},
+      {"frac", T::Int, "--frac", int_range(1, 52), single("--frac"), "fraction bits of the job"},
+      {"tri", T::Str, "--tri", parses(render::parse_tri), {}, "robust | mt"},
+      {"size", T::Str, "--size",
+       [](const json& v) {
+         int w, h;
+         render::parse_size(v.get<std::string>(), &w, &h);
+       },
+       {}, "WxH"},
+      {"bvh", T::Str, "--bvh", parses(render::parse_bvh), {}, "median | sah"},
+      {"box", T::Str, "--box", parses(render::parse_box), {}, "plain | conservative"},
+      {"noise", T::Str, "--noise", parses(render::parse_noise), {}, "float | fixed"},
+      {"threads", T::Int, "--threads", int_range(1, 64), {}, "render threads"},
+  };
+  k.required = {"exp", "frac"};
+  k.finish = [](Job& j, const ExpandOptions&) {
+    if (j.params.contains("mesh") == j.params.contains("scene"))
+      throw GridError("key 'scene'/'mesh': an image study needs exactly one of scene and mesh");
+    if (j.params.contains("mesh")) j.deps["mesh"] = file_hash(j.params["mesh"].get<std::string>());
+    j.result = j.out_dir + "/image_errors.csv";
+    j.argv.push_back("--out=" + j.out_dir);
+    j.argv.push_back("--no-plot");
+    return std::string();
+  };
+  return k;
+}
+
+Kind study_noise_kind() {
+  Kind k;
+  k.name = "study noise";
+  k.cmd = {"noise", "study"};
+  k.keys = {
+      {"size", T::Int, "--size",
+       [](const json& v) {
+         const long long n = v.get<long long>();
+         if (n < 64 || n > 8192 || (n & (n - 1))) throw std::runtime_error("expects a power of two in 64..8192");
+       },
+       {}, "pixels per side of the spectral images"},
+      {"error_samples", T::Int, "--error-samples", int_range(1, 100000000), {}, "random inputs per width"},
+      {"range_samples", T::Int, "--range-samples", int_range(1, 100000000), {}, "output-range samples"},
+      {"min_bits", T::Int, "--min-bits", int_range(1, 20), {}, "smallest fraction width"},
+      {"max_bits", T::Int, "--max-bits", int_range(1, 20), {}, "largest fraction width"},
+      {"seed", T::Int, "--seed", int_range(0, 1ll << 62), {}, "sampling seed"},
+  };
+  k.finish = [](Job& j, const ExpandOptions&) {
+    j.result = j.out_dir + "/noise_error_vs_bits.csv";  // spectra and range tables beside it
+    j.argv.push_back("--out=" + j.out_dir);
+    j.argv.push_back("--no-plot");
+    j.argv.push_back("--quiet");
+    return std::string();
+  };
+  return k;
+}
+
 // ---- trax: the chip model on a scene --------------------------------------------------------
 
 Kind trax_kind() {
@@ -479,8 +584,9 @@ Kind trax_kind() {
 }
 
 const std::vector<Kind>& kinds() {
-  static const std::vector<Kind> k = {synth_kind(), rtl_kind(), study_box_kind(), study_tri_kind(), render_kind(),
-                                      trax_kind()};
+  static const std::vector<Kind> k = {synth_kind(),      rtl_kind(),          study_box_kind(),
+                                      study_tri_kind(),  study_watertight_kind(), study_image_kind(),
+                                      study_noise_kind(), render_kind(),       trax_kind()};
   return k;
 }
 
@@ -581,8 +687,8 @@ void expand_one(const Ctx& cx, const toml::table& t, std::size_t grid_index, con
   if (kind == "study") {
     const toml::node* sn = t.get("study");
     const auto sv = sn ? sn->value_exact<std::string>() : std::nullopt;
-    if (!sv || (*sv != "box" && *sv != "tri"))
-      cx.fail(sn ? sn : kn, pre + "study", "kind \"study\" needs study = \"box\" or \"tri\"");
+    if (!sv || !find_kind("study " + *sv))
+      cx.fail(sn ? sn : kn, pre + "study", "kind \"study\" needs study = \"box\", \"tri\", \"watertight\", \"image\" or \"noise\"");
     kind += " " + *sv;
   }
   const Kind* k = find_kind(kind);
