@@ -26,8 +26,9 @@
 #include "rayunits/synth/checked_in.hpp"
 #include "rayunits/synth/flow.hpp"
 #include "rayunits/synth/process.hpp"
+#include "rayunits/util/process.hpp"
+#include "rayunits/sweep/sweep.hpp"
 #include "rayunits/synth/sweep.hpp"
-#include "rayunits/util/parallel.hpp"
 #include "studies.hpp"
 
 namespace ru::cli {
@@ -327,41 +328,53 @@ CellRows run_cell_rows(Context& ctx, const std::string& sub, const std::vector<C
     out[i].detail = "measured now: " + why;
     live.push_back(i);
   }
-  if (!live.empty()) ctx.progress(c.cmd + " (" + std::to_string(live.size()) + " point(s))");
-  synth::install_interrupt_handler();
-  util::ParallelOptions po;
-  po.stop = [] { return synth::interrupted(); };
-  std::string err;
-  std::mutex mu;
-  util::parallel_for(
-      live.size(), threads_of(ctx),
-      [&](size_t k) {
-        const size_t i = live[k];
-        const synth::UnitSpec& u = synth::find_unit(pts[i].unit);
-        synth::UnitConfig cfg;
-        if (u.uses_format) cfg.fmt = num::Format::parse(pts[i].format);
-        cfg.stages = pts[i].stages;
-        synth::FlowOptions fo;
-        fo.flow = "osu018";
-        fo.clocks_ps = {kFastPs, kSmallPs};
-        try {
-          const auto rows = synth::to_json_rows(synth::run_synth(u, cfg, fo));
-          if (rows.size() != 2) throw std::runtime_error("expected 2 rows, got " + std::to_string(rows.size()));
-          out[i].fast = rows[0];
-          out[i].small = rows[1];
-          if (out[i].detail.empty())
-            out[i].detail = "measured now (--live-synth)";
-          out[i].detail += "; `rayunits synth " + synth::config_args(u, cfg) + " --flow osu018 --clock " + kClockArg + "`";
-        } catch (const std::exception& e) {
-          std::lock_guard<std::mutex> l(mu);
-          if (err.empty())
-            err = std::string("rayunits synth ") + synth::config_args(u, cfg) + " --flow osu018 --clock " + kClockArg +
-                  ": " + e.what();
-        }
-      },
-      po);
-  if (!err.empty()) throw ReportError(err);
-  if (synth::interrupted()) throw ReportError("interrupted");
+  if (!live.empty()) {
+    // The live points as one grid of the sweep engine (one [[grid]] per point), in <sub>_sweep/.
+    ctx.progress(c.cmd + " (" + std::to_string(live.size()) + " point(s), sweep engine in " + sub + "_sweep/)");
+    std::string grid;
+    for (size_t i : live) {
+      grid += "[[grid]]\nkind = \"synth\"\nunit = " + nlohmann::json(pts[i].unit).dump() + "\n";
+      if (!pts[i].format.empty()) grid += "format = " + nlohmann::json(pts[i].format).dump() + "\n";
+      grid += "stages = " + std::to_string(pts[i].stages) + "\nflow = \"osu018\"\nclock = \"" + kClockArg + "\"\n";
+    }
+    sweep::Expansion ex;
+    try {
+      ex = sweep::expand_grid(grid, sub + " grid");
+    } catch (const sweep::GridError& e) {
+      throw ReportError(e.what());
+    }
+    sweep::RunOptions ro;
+    ro.dir = ctx.path(sub + "_sweep").string();
+    ro.jobs = threads_of(ctx);
+    ro.exe = util::self_exe();
+    ro.grid_text = grid;
+    ro.progress = [&](const std::string& m) { ctx.progress(m); };
+    synth::install_interrupt_handler();
+    const sweep::RunSummary sum = sweep::run_jobs(ex.jobs, ro);
+    if (sum.interrupted || synth::interrupted()) throw ReportError("interrupted");
+    std::map<std::string, nlohmann::json> by_hash;
+    for (const auto& r : sweep::read_results(ro.dir)) by_hash[r.value("hash", "")] = r;
+    std::map<std::string, nlohmann::json> by_point;  // "unit format stages" -> results.jsonl row
+    for (const sweep::Job& j : ex.jobs)
+      by_point[j.params.value("unit", "") + " " + j.params.value("format", "") + " " +
+               std::to_string(j.params.value("stages", 0))] = by_hash[j.hash];
+    for (size_t i : live) {
+      const synth::UnitSpec& u = synth::find_unit(pts[i].unit);
+      synth::UnitConfig cfg;
+      if (u.uses_format) cfg.fmt = num::Format::parse(pts[i].format);
+      cfg.stages = pts[i].stages;
+      const std::string cmd = "rayunits synth " + synth::config_args(u, cfg) + " --flow osu018 --clock " + kClockArg;
+      const nlohmann::json& row = by_point[key_of(pts[i])];
+      const nlohmann::json res = row.value("result", nlohmann::json::array());
+      if (row.value("status", "") != "ok" || res.size() != 2)
+        throw ReportError(cmd + ": " + row.value("error", std::string("no result")) + " (log " + ro.dir + "/" +
+                          row.value("log", std::string("logs/")) + ")");
+      out[i].fast = res[0];
+      out[i].small = res[1];
+      if (out[i].detail.empty()) out[i].detail = "measured now (--live-synth)";
+      out[i].detail += "; `" + cmd + "`";
+    }
+  }
   std::string jsonl;
   for (size_t i = 0; i < pts.size(); ++i) {
     for (nlohmann::json* j : {&out[i].fast, &out[i].small}) {

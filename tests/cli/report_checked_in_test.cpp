@@ -100,6 +100,8 @@ TEST(ReportCheckedIn, ChangedRtlHashIsNotUsed) {
   EXPECT_NE(md.find("measured now (checked-in row stale)"), std::string::npos) << md;
   EXPECT_NE(md.find("has rtl_hash " + other + ", the current RTL " + p.hash), std::string::npos) << md;
   EXPECT_NE(md.find("0 point(s) read from checked-in results, 1 measured now"), std::string::npos) << md;
+  // the live point ran as a job of the sweep engine (one engine for the report's loops)
+  EXPECT_NE(slurp(t.p / "rep" / "synth_osu018_sweep" / "results.jsonl").find("\"status\":\"ok\""), std::string::npos);
 }
 
 TEST(ReportCheckedIn, LiveSynthIgnoresACurrentRow) {
