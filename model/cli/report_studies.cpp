@@ -604,36 +604,64 @@ std::string intersection_section(Context& ctx) {
 
   // 3. Watertightness: robust vs MT on a closed mesh, per format (`study watertight`).
   {
-    const std::string csv = ctx.path("watertight.csv").string();
-    std::vector<std::string> cmds;
-    Table t;
+    // One grid of `study watertight` jobs (format x tri) run by the sweep engine in
+    // watertight_sweep/; watertight.csv is their rows in grid order.
+    std::vector<std::string> cmds, fmts;
     std::stringstream fl(wt_formats);
-    for (std::string f; std::getline(fl, f, ',');)
-      for (const char* tri : {"robust", "mt"}) {
-        const std::string cmd =
-            shown(ctx, "study watertight",
-                  {"--scene", "icosphere", "--format", f, "--tri", tri, "--rays", rays, "--seed", seed, "--threads",
-                   threads_arg(ctx), "--csv", csv, "--quiet"});
-        ctx.progress(cmd);
-        cmds.push_back(cmd);
-        WatertightArgs wa;
-        wa.scene = "icosphere";
-        wa.format = f;
-        wa.tri = tri;
-        wa.rays = count("intersection.rays", rays);
-        wa.seed = ctx.opts.seed;
-        wa.threads = threads_of(ctx);
-        wa.csv = csv;
-        wa.quiet = true;
-        Printout p(ctx, "watertight_" + f + "_" + tri + ".txt");
-        const WatertightRun w = call(cmd, [&] { return run_watertight_study(wa, p.out, p.err); });
-        p.finish();
-        const auto& r = w.result;
-        t.push_back({w.format, tri, std::to_string(r.edge.rays), std::to_string(r.edge.leaks),
-                     std::to_string(r.edge.double_hits), std::to_string(r.vertex.rays),
-                     std::to_string(r.vertex.leaks), std::to_string(r.vertex.double_hits),
-                     std::to_string(r.overflow_rays)});
+    for (std::string f; std::getline(fl, f, ',');) {
+      try {
+        num::Format::parse(f);
+      } catch (const std::exception& e) {
+        throw ReportError("rayunits study watertight --format " + f + " (--param intersection.watertight_formats): " +
+                          e.what());
       }
+      fmts.push_back(f);
+    }
+    const long long n_rays = count("intersection.rays", rays);
+    std::string grid = "kind = \"study\"\nstudy = \"watertight\"\nscene = \"icosphere\"\nformat = [";
+    for (size_t i = 0; i < fmts.size(); ++i) grid += (i ? ", " : "") + nlohmann::json(fmts[i]).dump();
+    grid += "]\ntri = [\"robust\", \"mt\"]\nrays = " + std::to_string(n_rays) + "\nseed = " +
+            std::to_string(ctx.opts.seed) + "\nthreads = " + std::to_string(threads_of(ctx)) + "\n";
+    for (const auto& f : fmts)
+      for (const char* tri : {"robust", "mt"}) {
+        cmds.push_back(shown(ctx, "study watertight",
+                             {"--scene", "icosphere", "--format", f, "--tri", tri, "--rays", rays, "--seed", seed,
+                              "--threads", threads_arg(ctx), "--csv", "watertight.csv", "--quiet"}));
+        ctx.progress(cmds.back());
+      }
+    sweep::Expansion ex;
+    try {
+      ex = sweep::expand_grid(grid, "watertight grid");
+    } catch (const sweep::GridError& e) {
+      throw ReportError(e.what());
+    }
+    sweep::RunOptions ro;
+    ro.dir = ctx.path("watertight_sweep").string();
+    ro.jobs = 1;  // each job runs on threads_of(ctx) threads
+    ro.exe = util::self_exe();
+    ro.grid_text = grid;
+    ro.progress = [&](const std::string& m) { ctx.progress(m); };
+    synth::install_interrupt_handler();
+    if (sweep::run_jobs(ex.jobs, ro).interrupted || synth::interrupted()) throw ReportError("interrupted");
+    std::map<std::string, nlohmann::json> by_hash;
+    for (const auto& r : sweep::read_results(ro.dir)) by_hash[r.value("hash", "")] = r;
+    Table t;
+    std::string csv_text;
+    for (size_t k = 0; k < ex.jobs.size(); ++k) {
+      const nlohmann::json& row = by_hash[ex.jobs[k].hash];
+      const nlohmann::json res = row.value("result", nlohmann::json::array());
+      if (row.value("status", "") != "ok" || res.size() != 1)
+        throw ReportError(cmds[k] + ": " + row.value("error", std::string("no result")) + " (log " + ro.dir + "/" +
+                          row.value("log", std::string("logs/")) + ")");
+      const nlohmann::json& r = res[0];
+      auto n = [&](const char* key) { return std::to_string(r.value(key, 0LL)); };
+      t.push_back({r.value("format", std::string()), ex.jobs[k].params.value("tri", ""), n("edge_rays"),
+                   n("edge_leaks"), n("edge_double_hits"), n("vertex_rays"), n("vertex_leaks"),
+                   n("vertex_double_hits"), n("overflow_rays")});
+      const std::string job_csv = synth::read_file(ro.dir + "/" + ex.jobs[k].result);
+      csv_text += k == 0 ? job_csv : job_csv.substr(job_csv.find('\n') + 1);  // one header
+    }
+    synth::write_file_atomic(ctx.path("watertight.csv").string(), csv_text);
     std::string cl;
     for (const auto& x : cmds) cl += "cd REPORT && " + x + "\n";
     if (!cl.empty()) cl.pop_back();

@@ -496,7 +496,7 @@ TEST_F(Cli, ReportStudySections) {
   ASSERT_EQ(r.code, 0) << r.err;
   const std::string idx = read_file(out / "index.md");
   for (const char* f : {"synth/synth_sweep.csv", "synth.txt", "tri.txt", "box.csv", "watertight.csv",
-                        "watertight_e5m10_robust.txt", "noise/noise_summary.md", "noise.txt"})
+                        "watertight_sweep/results.jsonl", "noise/noise_summary.md", "noise.txt"})
     EXPECT_TRUE(fs::exists(out / f)) << f;
   // command lines relative to the report directory, reproducible with `cd REPORT && ...`
   EXPECT_NE(idx.find("rayunits synth-sweep --out synth --units fp_add"), std::string::npos) << idx;
