@@ -403,11 +403,34 @@ void check_render_format(const json& v) {
   if (s != "double" && s != "float") num::Format::parse(s);
 }
 
+// Exactly one of `scene` and `mesh` (render, trax, study watertight/image); a mesh file's content
+// is part of the job's hash.
+void scene_or_mesh(Job& j, const std::string& what) {
+  if (j.params.contains("mesh") == j.params.contains("scene"))
+    throw GridError("key 'scene'/'mesh': " + what + " needs exactly one of scene and mesh");
+  if (j.params.contains("mesh")) j.deps["mesh"] = file_hash(j.params["mesh"].get<std::string>());
+}
+
+// A check that runs a renderer option parser (parse_tri, parse_box, ...) on the value.
+template <class F>
+std::function<void(const json&)> parses(F f) {
+  return [f](const json& v) { f(v.get<std::string>()); };
+}
+
+// The `size` key of renders, image studies and the chip model: "WxH" or "N".
+Key size_key(const char* help) {
+  return {"size", T::Str, "--size",
+          [](const json& v) {
+            int w, h;
+            render::parse_size(v.get<std::string>(), &w, &h);
+          },
+          {}, help};
+}
+
 Kind render_kind() {
   Kind k;
   k.name = "render";
   k.cmd = {"render"};
-  auto parses = [](auto f) { return [f](const json& v) { f(v.get<std::string>()); }; };
   k.keys = {
       {"scene", T::Str, "--scene", check_scene, {}, "built-in scene"},
       {"mesh", T::Str, "--mesh", check_existing_file, {}, "mesh file"},
@@ -418,20 +441,13 @@ Kind render_kind() {
       {"bvh", T::Str, "--bvh", parses(render::parse_bvh), {}, "sah | median"},
       {"noise", T::Str, "--noise", parses(render::parse_noise), {}, "float | fixed"},
       {"leaf", T::Int, "--leaf", int_range(1, 64), {}, "triangles per leaf"},
-      {"size", T::Str, "--size",
-       [](const json& v) {
-         int w, h;
-         render::parse_size(v.get<std::string>(), &w, &h);
-       },
-       {}, "WxH or N"},
+      size_key("WxH or N"),
       {"threads", T::Int, "--threads", int_range(1, 64), {}, "render threads"},
       {"no_shadows", T::Bool, "--no-shadows", {}, {}, "primary rays only"},
       {"compare", T::Bool, "--compare", {}, {}, "also render in double: errors and PSNR against it"},
   };
   k.finish = [](Job& j, const ExpandOptions&) {
-    if (j.params.contains("mesh") == j.params.contains("scene"))
-      throw GridError("key 'scene'/'mesh': a render job needs exactly one of scene and mesh");
-    if (j.params.contains("mesh")) j.deps["mesh"] = file_hash(j.params["mesh"].get<std::string>());
+    scene_or_mesh(j, "a render job");
     j.result = j.out_dir + "/render.jsonl";
     j.argv.push_back("--out=" + j.out_dir + "/image.png");
     j.argv.push_back("--json=" + j.result);
@@ -468,9 +484,7 @@ Kind study_watertight_kind() {
       {"tie_break", T::Bool, "--tie-break", {}, {}, "robust: Fig. 3.6's tie-break"},
   };
   k.finish = [](Job& j, const ExpandOptions&) {
-    if (j.params.contains("mesh") == j.params.contains("scene"))
-      throw GridError("key 'scene'/'mesh': a watertight study needs exactly one of scene and mesh");
-    if (j.params.contains("mesh")) j.deps["mesh"] = file_hash(j.params["mesh"].get<std::string>());
+    scene_or_mesh(j, "a watertight study");
     j.result = j.out_dir + "/watertight.csv";
     j.argv.push_back("--csv=" + j.result);
     j.argv.push_back("--quiet");
@@ -483,7 +497,6 @@ Kind study_image_kind() {
   Kind k;
   k.name = "study image";
   k.cmd = {"study", "image"};
-  auto parses = [](auto f) { return [f](const json& v) { f(v.get<std::string>()); }; };
   auto single = [](const char* opt) {
     return [opt](const json& v) { return std::vector<std::string>{std::string(opt) + "=" + value_text(v)}; };
   };
@@ -494,12 +507,7 @@ Kind study_image_kind() {
       {"exp", T::Int, "--exp", int_range(2, 11), single("--exp"), "exponent bits of the job"},
       {"frac", T::Int, "--frac", int_range(1, 52), single("--frac"), "fraction bits of the job"},
       {"tri", T::Str, "--tri", parses(render::parse_tri), {}, "robust | mt"},
-      {"size", T::Str, "--size",
-       [](const json& v) {
-         int w, h;
-         render::parse_size(v.get<std::string>(), &w, &h);
-       },
-       {}, "WxH"},
+      size_key("WxH"),
       {"bvh", T::Str, "--bvh", parses(render::parse_bvh), {}, "median | sah"},
       {"box", T::Str, "--box", parses(render::parse_box), {}, "plain | conservative"},
       {"noise", T::Str, "--noise", parses(render::parse_noise), {}, "float | fixed"},
@@ -507,9 +515,7 @@ Kind study_image_kind() {
   };
   k.required = {"exp", "frac"};
   k.finish = [](Job& j, const ExpandOptions&) {
-    if (j.params.contains("mesh") == j.params.contains("scene"))
-      throw GridError("key 'scene'/'mesh': an image study needs exactly one of scene and mesh");
-    if (j.params.contains("mesh")) j.deps["mesh"] = file_hash(j.params["mesh"].get<std::string>());
+    scene_or_mesh(j, "an image study");
     j.result = j.out_dir + "/image_errors.csv";
     j.argv.push_back("--out=" + j.out_dir);
     j.argv.push_back("--no-plot");
@@ -551,7 +557,6 @@ Kind trax_kind() {
   Kind k;
   k.name = "trax";
   k.cmd = {"trax"};
-  auto parses = [](auto f) { return [f](const json& v) { f(v.get<std::string>()); }; };
   k.keys = {
       {"scene", T::Str, "--scene", check_scene, {}, "built-in scene"},
       {"mesh", T::Str, "--mesh", check_existing_file, {}, "mesh file"},
@@ -559,22 +564,15 @@ Kind trax_kind() {
       {"format", T::Str, "--format", check_render_format, {}, "float or eXmY (chip.format)"},
       {"tri", T::Str, "--tri", parses(render::parse_tri), {}, "robust | mt"},
       {"traversal", T::Str, "--traversal", one_of({"stack", "stackless"}), {}, "BVH traversal"},
-      {"size", T::Str, "--size",
-       [](const json& v) {
-         int w, h;
-         render::parse_size(v.get<std::string>(), &w, &h);
-       },
-       {}, "WxH or N"},
+      size_key("WxH or N"),
       {"config", T::Str, "--config", check_existing_file, {}, "chip configuration TOML"},
       {"cosim", T::Bool, "--cosim", {}, {}, "co-simulate the units with their RTL"},
   };
   k.finish = [](Job& j, const ExpandOptions&) {
-    if (j.params.contains("mesh") == j.params.contains("scene"))
-      throw GridError("key 'scene'/'mesh': a trax job needs exactly one of scene and mesh");
+    scene_or_mesh(j, "a trax job");
     if (j.params.contains("format") && j.params["format"].get<std::string>() == "double")
       throw GridError("key 'format': the chip model takes float or eXmY, not double");
-    for (const char* f : {"mesh", "config"})
-      if (j.params.contains(f)) j.deps[f] = file_hash(j.params[f].get<std::string>());
+    if (j.params.contains("config")) j.deps["config"] = file_hash(j.params["config"].get<std::string>());
     j.result = j.out_dir + "/summary.json";
     j.argv.push_back("--out=" + j.out_dir);
     j.argv.push_back("--quiet");
