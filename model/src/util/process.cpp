@@ -50,7 +50,14 @@ bool drain(int& fd, std::string* s) {
 std::string self_exe() {
   char buf[4096];
   const ssize_t n = ::readlink("/proc/self/exe", buf, sizeof buf - 1);
-  return n > 0 ? std::string(buf, static_cast<std::size_t>(n)) : std::string();
+  if (n <= 0) return std::string();
+  const std::string p(buf, static_cast<std::size_t>(n));
+  // The binary was replaced while this process runs (a rebuild during a long sweep or report):
+  // the path names the new program, "/proc/self/exe" still this one (a forked child execs it).
+  const std::string deleted = " (deleted)";
+  if (p.size() > deleted.size() && p.compare(p.size() - deleted.size(), deleted.size(), deleted) == 0)
+    return "/proc/self/exe";
+  return p;
 }
 
 std::string find_program(const std::string& name) {

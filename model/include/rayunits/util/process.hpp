@@ -29,7 +29,10 @@ struct ProcessError : std::runtime_error {
 // "" when it cannot be found / is not executable.
 std::string find_program(const std::string& name_or_path);
 
-// The running executable's absolute path (/proc/self/exe); "" when it cannot be read.
+// The running executable's absolute path (/proc/self/exe); "" when it cannot be read. When the
+// file was replaced after this process started (rebuilt during a long sweep or report), the path
+// would name the new program: then "/proc/self/exe" itself, which a forked child can still exec,
+// so the jobs of one run all run one program.
 std::string self_exe();
 
 // POSIX shell quoting ('...' with ' written as '\''), for commands shown to people (and
