@@ -285,45 +285,54 @@ void configure(const std::string& header) {
   unit_spec("box", kv["box"], box);
   unit_spec("tri", kv["tri"], tri);
   unit_spec("noise", kv["noise"], noise);
-  const std::map<std::string, int64_t> fp = {{"ExpW", g_fmt.exp_bits},
-                                             {"FracW", g_fmt.frac_bits},
-                                             {"Subnormals", g_fmt.subnormals ? 1 : 0},
-                                             {"Round", static_cast<int>(g_fmt.round)}};
-  const std::string fmt_name = g_fmt.name();
-  auto pick = [&](UnitSel& u, const std::string& unit, std::map<std::string, int64_t> want, const std::string& what) {
-    want["Stages"] = u.latency;
-    std::string have;
-    u.desc = find(unit, want, have);
-    if (!u.desc)
-      fail_line("no RTL build of " + what + " at latency (Stages) " + std::to_string(u.latency) +
-                " in tb_trax_cosim (built: " + have + "; add it to RU_TRAX_COSIM_* in tb/trax/CMakeLists.txt)");
-    u.rtl = u.desc->full_name();
-    try {
-      u.spec = &synth::find_unit(u.desc->unit);
-      u.cfg = ru::tb::unit_config(*u.desc);
-    } catch (const std::exception& e) {
-      fail_line(u.rtl + ": " + e.what());
-    }
-    map_words(u);
-  };
   if (box.algo != "plain" && box.algo != "conservative") fail_line("unknown box mode " + box.algo);
-  {
-    auto want = fp;
-    want["OptConservative"] = box.algo == "conservative" ? 1 : 0;
-    pick(box, "ray_box", want, "ray_box " + fmt_name + (box.algo == "conservative" ? " conservative" : ""));
-  }
   if (tri.algo != "robust" && tri.algo != "mt") fail_line("unknown tri algorithm " + tri.algo);
-  {
-    auto want = fp;
-    want["OptTieBreak"] = 0;
-    want["OptEpsTest"] = 0;
-    want["OptVolOut"] = 0;
-    if (tri.algo == "mt") want.erase("OptTieBreak");
-    pick(tri, tri.algo == "robust" ? "ray_tri_robust" : "ray_tri_mt", want, "ray_tri_" + tri.algo + " " + fmt_name);
-  }
   if (noise.algo != "fixed")
     fail_line("chip.noise = " + noise.algo + " has no RTL (the noise unit implements noise = fixed)");
-  pick(noise, "noise", {{"FracBits", 8}, {"IntBits", 8}, {"OutW", 10}}, "noise (FracBits 8, IntBits 8, OutW 10)");
+  // The configurations this chip needs: trax::cosim::companion_units, the one description that
+  // `rayunits trax --cosim-build` builds from too (format, options, latency as Stages).
+  ru::trax::Config chip;
+  chip.format = kv["format"];
+  chip.box = box.algo;
+  chip.tri = tri.algo;
+  chip.noise = noise.algo;
+  chip.unit(ru::trax::Unit::Box).latency = box.latency;
+  chip.unit(ru::trax::Unit::Tri).latency = tri.latency;
+  chip.unit(ru::trax::Unit::Noise).latency = noise.latency;
+  std::vector<std::pair<const ru::synth::UnitSpec*, ru::synth::UnitConfig>> need;
+  try {
+    need = ru::trax::cosim::companion_units(chip);
+  } catch (const std::exception& e) {
+    fail_line(e.what());
+  }
+  for (auto [sel, k] : {std::pair<UnitSel*, int>{&box, 0}, {&tri, 1}, {&noise, 2}}) {
+    const ru::synth::UnitSpec& spec = *need[k].first;
+    const ru::synth::UnitConfig& c = need[k].second;
+    std::map<std::string, int64_t> want(c.params.begin(), c.params.end());
+    if (spec.uses_format) {
+      want["ExpW"] = c.fmt.exp_bits;
+      want["FracW"] = c.fmt.frac_bits;
+      want["Subnormals"] = c.fmt.subnormals ? 1 : 0;
+      want["Round"] = static_cast<int>(c.fmt.round);
+    }
+    want["Stages"] = c.stages;
+    std::string what = spec.name + (spec.uses_format ? " " + c.fmt.name() : std::string());
+    for (const auto& [n, v] : c.params) what += " " + n + "=" + std::to_string(v);
+    std::string have;
+    sel->desc = find(spec.name, want, have);
+    if (!sel->desc)
+      fail_line("no RTL build of " + what + " at latency (Stages) " + std::to_string(c.stages) +
+                " in tb_trax_cosim (built: " + have + "; add it to RU_TRAX_COSIM_* in tb/trax/CMakeLists.txt, " +
+                "or run with --cosim-build)");
+    sel->rtl = sel->desc->full_name();
+    try {
+      sel->spec = &spec;
+      sel->cfg = ru::tb::unit_config(*sel->desc);
+    } catch (const std::exception& e) {
+      fail_line(sel->rtl + ": " + e.what());
+    }
+    map_words(*sel);
+  }
   g_units[Op::Box] = box;
   g_units[Op::Tri] = tri;
   g_units[Op::Noise] = noise;

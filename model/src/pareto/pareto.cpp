@@ -8,7 +8,6 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <set>
 #include <sstream>
 
 #include "rayunits/num/format.hpp"
@@ -179,17 +178,9 @@ std::vector<Row> load_rows(const std::string& path) {
   if (fs::is_directory(path, ec)) {
     if (!fs::exists(fs::path(path) / "results.jsonl"))
       throw ParetoError("'" + path + "' is a directory without results.jsonl (not a `rayunits sweep` directory)");
-    // Only the current grid's jobs (jobs.jsonl), as results.csv shows them: results.jsonl keeps the
-    // rows of earlier grids and of earlier RTL too (other hashes).
-    std::set<std::string> current;
-    if (fs::exists(fs::path(path) / "jobs.jsonl")) {
-      std::istringstream in(read_text((fs::path(path) / "jobs.jsonl").string()));
-      for (std::string line; std::getline(in, line);)
-        if (!line.empty()) current.insert(nlohmann::json::parse(line).value("hash", ""));
-    }
-    for (const auto& sr : sweep::read_results(path)) {
+    // The current grid's jobs, as results.csv shows them (not the rows of earlier RTL).
+    for (const auto& sr : sweep::current_results(path)) {
       if (sr.value("status", "") != "ok" || !sr.contains("result") || !sr["result"].is_array()) continue;
-      if (!current.empty() && !current.count(sr.value("hash", ""))) continue;
       Row base = Row::object();
       if (sr.contains("params")) flatten_into(sr["params"], "", base);
       base["kind"] = sr.value("kind", "");

@@ -191,6 +191,20 @@ std::vector<json> read_results(const std::string& dir) {
   return out;
 }
 
+std::vector<json> current_results(const std::string& dir) {
+  const fs::path jobs_file = fs::path(dir) / "jobs.jsonl";
+  if (!fs::exists(jobs_file)) return read_results(dir);
+  std::map<std::string, json> latest;
+  for (json& r : read_results(dir)) {
+    const std::string h = r.value("hash", "");  // (not in the subscript: the move is sequenced first)
+    latest[h] = std::move(r);
+  }
+  std::vector<json> rows;
+  for (const Job& j : read_jobs(jobs_file.string()))
+    if (latest.count(j.hash)) rows.push_back(latest[j.hash]);
+  return rows;
+}
+
 std::string results_csv(const std::vector<json>& rows) {
   const std::vector<std::string> fixed = {"hash", "index", "kind", "status", "wall_s", "error"};
   std::vector<std::string> pcols, rcols;

@@ -35,6 +35,8 @@ bool sbatch_plain(const std::string& s) {
                            std::string::npos;
 }
 
+}  // namespace
+
 std::vector<Job> read_jobs(const std::string& file) {
   if (!fs::is_regular_file(file)) throw std::runtime_error("no job list '" + file + "'");
   std::istringstream in(synth::read_file(file));
@@ -54,6 +56,8 @@ std::vector<Job> read_jobs(const std::string& file) {
   }
   return jobs;
 }
+
+namespace {
 
 json options_json(const SlurmOptions& o) {
   return json{{"exe", o.exe},   {"partition", o.partition}, {"time", o.time},       {"mem", o.mem},

@@ -105,6 +105,14 @@ nlohmann::json run_one(const Job& job, const std::string& dir, const RunOptions&
 // per hash, in file order of their last appearance.
 std::vector<nlohmann::json> read_results(const std::string& dir);
 
+// The job list of a jobs.jsonl file (throws std::runtime_error naming the file and line).
+std::vector<Job> read_jobs(const std::string& file);
+
+// The rows of the directory's current grid: for each job of DIR/jobs.jsonl (in job order) its last
+// row in results.jsonl, if any — what results.csv shows. results.jsonl itself keeps the rows of
+// earlier grids and earlier sources too (other hashes). Without jobs.jsonl: read_results(dir).
+std::vector<nlohmann::json> current_results(const std::string& dir);
+
 // results.csv of these rows: hash, index, kind, status, wall_s, error, then every parameter, then
 // every scalar field of the typed result (one CSV line per result row; a job with no result row
 // gets one line).
