@@ -4,6 +4,7 @@
 // the table after an interrupt (SIGTERM and SIGKILL of the runner).
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -565,6 +566,46 @@ TEST_F(Sweep, JobsOfAKilledRunnerStop) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   EXPECT_EQ(processes_in(out), 0) << "the job outlived its SIGKILLed runner by 5 s";
   EXPECT_EQ(count_lines(slurp(out / "results.jsonl")), 0);
+}
+
+// A rebuild during a long sweep replaces the rayunits file; the sweep goes on running the binary
+// it started with (its jobs exec /proc/self/exe), not the new file. Planted: the "new binary" is a
+// script that touches a canary and fails; a runner that exec'd the path would run it.
+TEST_F(Sweep, JobsKeepRunningTheBinaryTheSweepStartedWith) {
+  const fs::path exe = dir() / "bin" / "rayunits";
+  fs::create_directories(exe.parent_path());
+  fs::copy_file(rayunits_exe(), exe);
+  const fs::path canary = dir() / "canary";
+  const fs::path g = grid("g.toml", box_grid({"e5m10", "e6m12", "e7m16"}, 300000));
+  const fs::path out = dir() / "s";
+  ru::util::ProcessOptions o;
+  o.out = ru::util::Redirect::null();
+  o.err = ru::util::Redirect::file((dir() / "runner.err").string());
+  ru::util::Child runner({exe.string(), "sweep", g.string(), "--out", out.string(), "-j", "1"}, o);
+  const auto t0 = std::chrono::steady_clock::now();
+  while (processes_in(out) == 0 && std::chrono::steady_clock::now() - t0 < std::chrono::seconds(60))
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  ASSERT_EQ(processes_in(out), 1) << "the first job did not start";
+  // "the rebuild": a new file renamed over the old one (as a linker or install does)
+  spit(dir() / "bin" / "new", "#!/bin/sh\ntouch '" + canary.string() + "'\nexit 3\n");
+  ::chmod((dir() / "bin" / "new").c_str(), 0755);
+  fs::rename(dir() / "bin" / "new", exe);
+  const auto res = runner.wait();
+  EXPECT_EQ(res.exit_code, 0) << slurp(dir() / "runner.err");
+  EXPECT_FALSE(fs::exists(canary)) << "a job ran the replaced file";
+  const auto rows = read_results(out.string());
+  ASSERT_EQ(rows.size(), 3u);
+  for (const auto& r : rows) {
+    EXPECT_EQ(r["status"], "ok") << r.dump();
+    EXPECT_EQ(r["deps"]["tool"], rows[0]["deps"]["tool"]);
+  }
+  EXPECT_NE(slurp(out / "logs" / (rows[2]["hash"].get<std::string>() + ".log")).find(exe.string()), std::string::npos)
+      << "the log names the program as started";
+  // and the planted "new binary" does what the check looks for when it is run
+  ru::util::ProcessOptions q;
+  q.out = q.err = ru::util::Redirect::null();
+  EXPECT_EQ(ru::util::run_process({exe.string()}, q).status(), 3);
+  EXPECT_TRUE(fs::exists(canary));
 }
 
 TEST_F(Sweep, LibraryRunnerReportsRunningJobsAndChecksEveryJob) {

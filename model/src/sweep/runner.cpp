@@ -249,6 +249,21 @@ std::string results_csv(const std::vector<json>& rows) {
   return out;
 }
 
+// What argv[0] of a job execs. This program itself (the executable named by /proc/self/exe when
+// the sweep started) runs as "/proc/self/exe": a forked child execs the image of its parent, so a
+// sweep keeps running the binary it started with even when a rebuild replaces the file during a
+// long run (the new binary's jobs would have other hashes and possibly other rows). Any other
+// executable runs as given. "This program" is fixed by the first call (run_jobs makes it at its
+// start; a Slurm task at its one job's start).
+const std::string& started_as() {
+  static const std::string self = util::self_exe();
+  return self;
+}
+std::string exec_path(const std::string& exe) {
+  const std::string& self = started_as();
+  return !self.empty() && (exe == self || exe == "/proc/self/exe") ? std::string("/proc/self/exe") : exe;
+}
+
 json run_one(const Job& j, const std::string& dir_, const RunOptions& opt) {
   const fs::path dir = fs::absolute(dir_);
   const std::string log_rel = "logs/" + j.hash + ".log";
@@ -263,6 +278,7 @@ json run_one(const Job& j, const std::string& dir_, const RunOptions& opt) {
     std::ofstream h(log, std::ios::binary | std::ios::trunc);
     h << "# " << j.label << "\n# cwd " << dir.string() << "\n# " << util::shell_join(argv) << "\n";
   }
+  argv[0] = exec_path(opt.exe);
   util::ProcessOptions p;
   p.cwd = dir.string();
   p.timeout_s = opt.timeout_s;
@@ -309,6 +325,7 @@ json run_one(const Job& j, const std::string& dir_, const RunOptions& opt) {
 
 RunSummary run_jobs(const std::vector<Job>& jobs, const RunOptions& opt) {
   if (opt.exe.empty()) throw std::runtime_error("run_jobs: no rayunits executable");
+  started_as();
   const fs::path dir = fs::absolute(opt.dir);
   fs::create_directories(dir / "logs");
   fs::create_directories(dir / "out");

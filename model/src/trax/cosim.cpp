@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <unistd.h>
 
+#include "rayunits/noise/fixed.hpp"
 #include "rayunits/num/format.hpp"
 #include "rayunits/util/process.hpp"
 
@@ -46,7 +47,9 @@ std::vector<std::pair<const synth::UnitSpec*, synth::UnitConfig>> companion_unit
     v.push_back(at("ray_tri_mt", Unit::Tri, {{"OptEpsTest", 0}, {"OptVolOut", 0}}));
   else
     v.push_back(at("ray_tri_robust", Unit::Tri, {{"OptTieBreak", 0}, {"OptEpsTest", 0}, {"OptVolOut", 0}}));
-  v.push_back(at("noise", Unit::Noise, {{"FracBits", 8}, {"IntBits", 8}, {"OutW", 10}}));
+  // the chip's noise unit is the model's default FixedConfig (kernel.cpp: FixedNoise{FixedConfig{}})
+  const noise::FixedConfig nc{};
+  v.push_back(at("noise", Unit::Noise, {{"FracBits", nc.frac_bits}, {"IntBits", nc.int_bits}, {"OutW", nc.out_w}}));
   return v;
 }
 
