@@ -127,32 +127,26 @@ std::string code_block(const std::string& cmd) { return "```sh\n" + cmd + "\n```
 int threads_of(const Context& ctx) { return static_cast<int>(std::max(1u, std::min(ctx.threads(), 64u))); }
 std::string threads_arg(const Context& ctx) { return std::to_string(threads_of(ctx)); }
 
-// Which tool steps a sweep runs (Xilinx never: the report does not show it).
-enum class Flow { Generic, Ice40Luts, Ice40Fmax };
+// Which iCE40 steps the synthesis section's generic sweep runs (Xilinx never: the report does not
+// show it): synthesis only (LUT count) or also nextpnr (Fmax).
+enum class Flow { Ice40Luts, Ice40Fmax };
 
 struct Sweep {
   std::string cmd;                    // the command line that reproduces it
   std::vector<synth::SweepRow> rows;  // in the order of synth_sweep.csv
-  // area of "unit format stages" (format "" for units without one); NaN if missing or failed
-  double area(const std::string& unit, const std::string& format, int stages) const {
-    for (const auto& r : rows)
-      if (r.unit == unit && r.format == format && r.stages == stages) return r.error.empty() ? r.area_nand2 : std::nan("");
-    return std::nan("");
-  }
 };
 
 
 // `rayunits synth-sweep` into <dir>/<sub> (synth::run_sweep_rows, as the command runs it); the
 // progress goes to <sub>.log with --quiet, else to stderr; <sub>.txt is its (empty) printout.
 Sweep run_sweep(Context& ctx, const std::string& sub, const std::string& units, const std::string& formats,
-                const std::string& stages, Flow flow, bool plot = true) {
+                const std::string& stages, Flow flow) {
   std::vector<std::string> a{"--out", ctx.path(sub).string(), "--units", units, "--stages", stages, "-j",
                              threads_arg(ctx)};
   if (!formats.empty()) a.insert(a.end(), {"--formats", formats});
-  if (flow == Flow::Generic) a.push_back("--generic-only");
-  if (flow != Flow::Generic) a.push_back("--no-xilinx");
+  a.push_back("--no-xilinx");
   if (flow == Flow::Ice40Fmax) a.push_back("--fpga");
-  if (!ctx.opts.plots || !plot) a.push_back("--no-plot");
+  if (!ctx.opts.plots) a.push_back("--no-plot");
   Sweep s;
   s.cmd = shown(ctx, "synth-sweep", a);
   ctx.progress(s.cmd);
@@ -166,10 +160,9 @@ Sweep run_sweep(Context& ctx, const std::string& sub, const std::string& units, 
   if (!formats.empty()) so.formats = split_list(formats);
   so.stages = split_list(stages);
   so.jobs = threads_of(ctx);
-  if (flow == Flow::Generic) so.flow.ice40 = so.flow.pnr = false;
   so.flow.xilinx = false;
   if (flow == Flow::Ice40Fmax) so.flow.ice40 = so.flow.pnr = true;
-  so.plot = ctx.opts.plots && plot;
+  so.plot = ctx.opts.plots;
 
   Printout p(ctx, sub + ".txt");
   synth::install_interrupt_handler();
@@ -237,62 +230,97 @@ const synth::CheckedInRows& checked_in(const Context& ctx) {
   return *rows;
 }
 
+// Which rows a point needs: the cell flow at both target clocks, the cell flow at the relaxed
+// clock only (the ray-triangle units: their fastest mapping takes hours), or the generic flow
+// (NAND2-eq estimate).
+enum class Rows { Ends, Small, Generic };
+
 struct CellPoint {
   std::string unit, format;  // format "" for units without one
   int stages = 0;
+  Rows rows = Rows::Ends;
 };
 
-// One point's two rows (fastest, smallest) and where they came from.
+// One point's rows and where they came from.
 struct CellEnds {
-  nlohmann::json fast, small;
-  bool read = false;        // both rows read from checked-in results
+  nlohmann::json fast, small, generic;  // null when the point does not need it
+  bool read = false;        // every row read from checked-in results
   std::string source;       // table cell: "read: FILE:LINE" or "measured now (...)"
   std::string detail;       // the line of the sources list
 };
 
+std::string key_of(const std::string& unit, const std::string& format, int stages, Rows rows) {
+  return unit + " " + format + " " + std::to_string(stages) + (rows == Rows::Generic ? " (generic)" : "");
+}
+std::string key_of(const CellPoint& p) { return key_of(p.unit, p.format, p.stages, p.rows); }
+
 struct CellRows {
-  std::string cmd;  // the command line pattern of a live point
-  std::map<std::string, CellEnds> rows;  // "unit format stages"
+  std::string cmd;  // the command line patterns of live points
+  std::map<std::string, CellEnds> rows;  // key_of
   int n_read = 0, n_live = 0;
-  const CellEnds* find(const std::string& unit, const std::string& format, int stages) const {
-    auto it = rows.find(unit + " " + format + " " + std::to_string(stages));
+  const CellEnds* find(const std::string& unit, const std::string& format, int stages, bool generic = false) const {
+    auto it = rows.find(key_of(unit, format, stages, generic ? Rows::Generic : Rows::Ends));
     return it == rows.end() ? nullptr : &it->second;
   }
-  static std::string area(const nlohmann::json& j) { return fmt("%.0f", j["area_um2"].get<double>()); }
-  static std::string mhz(const nlohmann::json& j) { return fmt("%.1f", j["fmax_mhz"].get<double>()); }
+  static std::string area(const nlohmann::json& j) { return j.is_null() ? "-" : fmt("%.0f", j["area_um2"].get<double>()); }
+  static std::string mhz(const nlohmann::json& j) { return j.is_null() ? "-" : fmt("%.1f", j["fmax_mhz"].get<double>()); }
   // fastest: area, Fmax, cycle (FO4); smallest: area, Fmax; source
   std::vector<std::string> cells(const std::string& unit, const std::string& format, int stages) const {
     const CellEnds* e = find(unit, format, stages);
     if (!e) return {"-", "-", "-", "-", "-", "-"};
-    return {area(e->fast), mhz(e->fast), fmt("%.1f", e->fast["period_fo4"].get<double>()), area(e->small),
-            mhz(e->small), e->source};
+    return {area(e->fast), mhz(e->fast), e->fast.is_null() ? "-" : fmt("%.1f", e->fast["period_fo4"].get<double>()),
+            area(e->small), mhz(e->small), e->source};
+  }
+  // generic flow: area est. (NAND2-eq), register bits, depth (gates), stage est. (ps, fo4-v1); source
+  std::vector<std::string> generic_cells(const std::string& unit, const std::string& format, int stages) const {
+    const CellEnds* e = find(unit, format, stages, true);
+    if (!e) return {"-", "-", "-", "-", "-"};
+    const nlohmann::json& g = e->generic;
+    return {fmt("%.0f", g["area_nand2"].get<double>()), std::to_string(g.value("reg_bits", 0)),
+            std::to_string(g.value("depth", 0)), fmt("%.0f", g.value("stage_delay_ps", 0.0)), e->source};
   }
   // The Markdown under a table: what was read (file, line, its command and commit) and what ran now.
   std::string sources_md() const {
-    std::string md = "Cell-flow rows: " + std::to_string(n_read) + " point(s) read from checked-in results, " +
+    std::string md = "Rows: " + std::to_string(n_read) + " point(s) read from checked-in results, " +
                      std::to_string(n_live) +
                      " measured now (`rayunits report --live-synth` measures all of them now). A row is read only "
                      "when it is for the same unit configuration, flow, target clock, placement and resource "
                      "sharing and its `rtl_hash` equals the hash of the current RTL sources; refresh the "
                      "checked-in rows with `rayunits sweep sweeps/default.toml --out sweeps/results/default -j 1` "
-                     "(FP units) or `/usr/bin/python3 synth/cell/run.py` (synth/results/cell).\n\n";
+                     "(FP units) or `/usr/bin/python3 synth/cell/run.py` (synth/results/cell: delete the stale "
+                     "point's file first; `--only REGEX` picks points).\n\n";
     for (const auto& [k, e] : rows) md += "- " + k + ": " + e.detail + "\n";
     return md + "\n";
   }
 };
 
-std::string key_of(const CellPoint& p) { return p.unit + " " + p.format + " " + std::to_string(p.stages); }
-
-// The points through the cell-library flow at both clocks (rayunits synth ... --flow osu018
-// --clock 200ps,1000000ps): read from the checked-in results when current, else synthesized now;
-// every row used is appended to <sub>.jsonl with its "report_source".
+// The rows of the points (cell flow: rayunits synth ... --flow osu018 --clock 200ps,1000000ps or
+// --clock 1000000ps; generic: --generic-only): read from the checked-in results when current,
+// else measured now by the sweep engine; every row used is appended to <sub>.jsonl with its
+// "report_source".
 CellRows run_cell_rows(Context& ctx, const std::string& sub, const std::vector<CellPoint>& pts) {
   CellRows c;
-  c.cmd = std::string("rayunits synth <unit> --format <format> --stages <stages> --flow osu018 --clock ") + kClockArg +
-          " --json " + sub + ".jsonl   # each row below measured now";
+  auto flow_args = [](Rows r) -> std::string {
+    switch (r) {
+      case Rows::Ends: return std::string("--flow osu018 --clock ") + kClockArg;
+      case Rows::Small: return "--flow osu018 --clock 1000000ps";
+      case Rows::Generic: return "--generic-only";
+    }
+    return "";
+  };
   const synth::CheckedInRows* ci = ctx.opts.live_synth ? nullptr : &checked_in(ctx);
   const std::string rtl_dir = synth::default_rtl_dir();
   std::vector<CellEnds> out(pts.size());
+  // the rows a point needs, in the order its live command writes them
+  auto slots = [&](size_t i) {
+    std::vector<std::pair<nlohmann::json*, double>> v;  // row, target clock (0: generic)
+    switch (pts[i].rows) {
+      case Rows::Ends: v = {{&out[i].fast, kFastPs}, {&out[i].small, kSmallPs}}; break;
+      case Rows::Small: v = {{&out[i].small, kSmallPs}}; break;
+      case Rows::Generic: v = {{&out[i].generic, 0}}; break;
+    }
+    return v;
+  };
   std::vector<size_t> live;
   for (size_t i = 0; i < pts.size(); ++i) {
     const CellPoint& p = pts[i];
@@ -307,35 +335,68 @@ CellRows run_cell_rows(Context& ctx, const std::string& sub, const std::vector<C
     }
     const std::string top = synth::wrapper_name(u, cfg);
     const std::string hash = synth::sources_hash(synth::resolve_sources(u, rtl_dir));
-    const auto f = ci->find(top, "osu018", kFastPs, "depth", u.synth_share, hash);
-    const auto s = ci->find(top, "osu018", kSmallPs, "depth", u.synth_share, hash);
-    if (f.row && s.row) {
+    std::vector<synth::CheckedInLookup> found;
+    std::string why;
+    for (const auto& [row, clock] : slots(i)) {
+      found.push_back(ci->find(top, clock == 0 ? "generic" : "osu018", clock, "depth", u.synth_share, hash));
+      if (!found.back().row && why.empty()) why = found.back().why_not;
+    }
+    if (why.empty()) {
       auto at = [](const synth::CheckedInRow& r) { return shown_path(r.file) + ":" + std::to_string(r.line); };
-      out[i].fast = f.row->row;
-      out[i].small = s.row->row;
-      out[i].read = true;
-      out[i].source = "read: " + at(*f.row) + (at(*s.row) == at(*f.row) ? "" : ", " + at(*s.row));
       auto made = [&](const synth::CheckedInRow& r) {
         return "`" + (r.command.empty() ? std::string("(no command recorded)") : r.command) + "` at " +
                (r.commit.empty() ? std::string("(no commit recorded)") : r.commit);
       };
-      out[i].detail = "read from " + at(*f.row) + " (200 ps, made by " + made(*f.row) + ") and " + at(*s.row) +
-                      " (1 us, made by " + made(*s.row) + "), rtl_hash " + hash + " = the current RTL";
+      std::vector<std::string> files;
+      // one entry per file:line (a sweep job's line holds both clocks' rows)
+      std::vector<std::pair<const synth::CheckedInRow*, std::string>> lines;  // row, its clocks
+      size_t k = 0;
+      for (const auto& [row, clock] : slots(i)) {
+        const synth::CheckedInRow& r = *found[k++].row;
+        *row = r.row;
+        const std::string what = clock == 0 ? std::string("generic") : clock == kFastPs ? "200 ps" : "1 us";
+        auto same = std::find_if(lines.begin(), lines.end(), [&](const auto& x) { return at(*x.first) == at(r); });
+        if (same == lines.end())
+          lines.push_back({&r, what});
+        else
+          same->second += " and " + what;
+      }
+      out[i].detail = "read from ";
+      for (size_t f = 0; f < lines.size(); ++f) {
+        files.push_back(at(*lines[f].first));
+        out[i].detail += std::string(f ? " and " : "") + files.back() + " (" + lines[f].second + ", made by " +
+                         made(*lines[f].first) + ")";
+      }
+      out[i].read = true;
+      out[i].source = "read: ";
+      for (size_t f = 0; f < files.size(); ++f) out[i].source += (f ? ", " : "") + files[f];
+      out[i].detail += ", rtl_hash " + hash + " = the current RTL";
       continue;
     }
-    const std::string why = !f.row ? f.why_not : s.why_not;
     out[i].source = why.rfind("stale", 0) == 0 ? "measured now (checked-in row stale)" : "measured now (no checked-in row)";
     out[i].detail = "measured now: " + why;
     live.push_back(i);
   }
   if (!live.empty()) {
     // The live points as one grid of the sweep engine (one [[grid]] per point), in <sub>_sweep/.
-    ctx.progress(c.cmd + " (" + std::to_string(live.size()) + " point(s), sweep engine in " + sub + "_sweep/)");
+    std::vector<Rows> kinds;
+    for (size_t i : live)
+      if (std::find(kinds.begin(), kinds.end(), pts[i].rows) == kinds.end()) kinds.push_back(pts[i].rows);
+    for (Rows r : kinds)
+      c.cmd += std::string(c.cmd.empty() ? "" : "\n") +
+               "cd REPORT && rayunits synth <unit> --format <format> --stages <stages> " +
+               flow_args(r) + " --json " + sub + ".jsonl   # each row below measured now";
+    ctx.progress(std::to_string(live.size()) + " point(s) measured now by the sweep engine in " + sub + "_sweep/");
     std::string grid;
     for (size_t i : live) {
       grid += "[[grid]]\nkind = \"synth\"\nunit = " + nlohmann::json(pts[i].unit).dump() + "\n";
       if (!pts[i].format.empty()) grid += "format = " + nlohmann::json(pts[i].format).dump() + "\n";
-      grid += "stages = " + std::to_string(pts[i].stages) + "\nflow = \"osu018\"\nclock = \"" + kClockArg + "\"\n";
+      grid += "stages = " + std::to_string(pts[i].stages) + "\n";
+      if (pts[i].rows == Rows::Generic)
+        grid += "generic_only = true\n";
+      else
+        grid += std::string("flow = \"osu018\"\nclock = \"") + (pts[i].rows == Rows::Ends ? kClockArg : "1000000ps") +
+                "\"\n";
     }
     sweep::Expansion ex;
     try {
@@ -343,6 +404,7 @@ CellRows run_cell_rows(Context& ctx, const std::string& sub, const std::vector<C
     } catch (const sweep::GridError& e) {
       throw ReportError(e.what());
     }
+    if (ex.jobs.size() != live.size()) throw ReportError(sub + " grid: expected one job per point");
     sweep::RunOptions ro;
     ro.dir = ctx.path(sub + "_sweep").string();
     ro.jobs = threads_of(ctx);
@@ -354,31 +416,28 @@ CellRows run_cell_rows(Context& ctx, const std::string& sub, const std::vector<C
     if (sum.interrupted || synth::interrupted()) throw ReportError("interrupted");
     std::map<std::string, nlohmann::json> by_hash;
     for (const auto& r : sweep::read_results(ro.dir)) by_hash[r.value("hash", "")] = r;
-    std::map<std::string, nlohmann::json> by_point;  // "unit format stages" -> results.jsonl row
-    for (const sweep::Job& j : ex.jobs)
-      by_point[j.params.value("unit", "") + " " + j.params.value("format", "") + " " +
-               std::to_string(j.params.value("stages", 0))] = by_hash[j.hash];
-    for (size_t i : live) {
+    for (size_t k = 0; k < live.size(); ++k) {  // the grid's jobs are in the order of its [[grid]] tables
+      const size_t i = live[k];
       const synth::UnitSpec& u = synth::find_unit(pts[i].unit);
       synth::UnitConfig cfg;
       if (u.uses_format) cfg.fmt = num::Format::parse(pts[i].format);
       cfg.stages = pts[i].stages;
-      const std::string cmd = "rayunits synth " + synth::config_args(u, cfg) + " --flow osu018 --clock " + kClockArg;
-      const nlohmann::json& row = by_point[key_of(pts[i])];
+      const std::string cmd = "rayunits synth " + synth::config_args(u, cfg) + " " + flow_args(pts[i].rows);
+      const nlohmann::json& row = by_hash[ex.jobs[k].hash];
       const nlohmann::json res = row.value("result", nlohmann::json::array());
-      if (row.value("status", "") != "ok" || res.size() != 2)
+      const auto sl = slots(i);
+      if (row.value("status", "") != "ok" || res.size() != sl.size())
         throw ReportError(cmd + ": " + row.value("error", std::string("no result")) + " (log " + ro.dir + "/" +
                           row.value("log", std::string("logs/")) + ")");
-      out[i].fast = res[0];
-      out[i].small = res[1];
+      for (size_t s = 0; s < sl.size(); ++s) *sl[s].first = res[s];
       if (out[i].detail.empty()) out[i].detail = "measured now (--live-synth)";
       out[i].detail += "; `" + cmd + "`";
     }
   }
   std::string jsonl;
   for (size_t i = 0; i < pts.size(); ++i) {
-    for (nlohmann::json* j : {&out[i].fast, &out[i].small}) {
-      nlohmann::json r = *j;
+    for (const auto& [row, clock] : slots(i)) {
+      nlohmann::json r = *row;
       r["report_source"] = out[i].source;
       jsonl += r.dump() + "\n";
     }
@@ -460,7 +519,7 @@ std::string synthesis_section(Context& ctx) {
       "fo4-v1 delay estimate) and iCE40 HX8K place and route by nextpnr. The accuracy side is the section above: "
       "its rows for the same formats are repeated here.\n\n### Cell flow (osu018, OpenSTA)\n\n" +
       std::string(kCellIntro);
-  if (cr.n_live > 0) md += code_block("cd REPORT && " + cr.cmd);
+  if (cr.n_live > 0) md += code_block(cr.cmd);
   {
     Table t;
     for (const auto& p : pts) {
@@ -528,7 +587,7 @@ std::string intersection_section(Context& ctx) {
   const std::string n_box = ctx.param("intersection.box_pairs", "100000");
   const std::string rays = ctx.param("intersection.rays", "20000");
   const std::string wt_formats = ctx.param("intersection.watertight_formats", "e5m10,e6m12,e7m16,e8m23");
-  const std::string synth_formats = ctx.param("intersection.synth_formats", "e5m10");
+  const std::string synth_formats = ctx.param("intersection.synth_formats", "e8m23");
   const bool synth = ctx.param("intersection.synth", "1") != "0";
   const std::string seed = std::to_string(ctx.opts.seed);
   auto count = [](const std::string& key, const std::string& v) {
@@ -673,21 +732,40 @@ std::string intersection_section(Context& ctx) {
                                t);
   }
 
-  // 4. Area of the units: robust vs MT.
+  // 4. Area of the units: robust vs MT, in the cell flow (the relaxed, area-oriented mapping: the
+  // fastest mapping of a ray-triangle unit takes hours).
   if (synth) {
-    const Sweep sw = run_sweep(ctx, "ray_synth", "ray_box,ray_tri_robust,ray_tri_mt", synth_formats, "0", Flow::Generic);
-    Table t;
-    std::stringstream fl(synth_formats);
-    for (std::string f; std::getline(fl, f, ',');) {
-      const double rb = sw.area("ray_tri_robust", f, 0), mt = sw.area("ray_tri_mt", f, 0),
-                   bx = sw.area("ray_box", f, 0);
-      t.push_back({f, fmt("%.0f", bx), fmt("%.0f", rb), fmt("%.0f", mt), fmt("%.2f", rb / mt)});
+    std::vector<CellPoint> pts;
+    for (const auto& f : split_list(synth_formats))
+      for (const char* u : {"ray_box", "ray_tri_robust", "ray_tri_mt"}) pts.push_back({u, f, 0, Rows::Small});
+    for (const auto& p : pts) {
+      try {
+        num::Format::parse(p.format);
+      } catch (const std::exception& e) {
+        throw ReportError("--param intersection.synth_formats: " + std::string(e.what()));
+      }
     }
-    md += "\n### Area: robust vs Moller-Trumbore\n\n" + code_block("cd REPORT && " + sw.cmd) +
-          "Combinational units (Stages 0), NAND2-equivalent area of the whole unit from the same flow as the "
-          "synthesis section. Kensler estimates 35-42 % more arithmetic for the robust test. Data: "
-          "[ray_synth/synth_sweep.csv](ray_synth/synth_sweep.csv).\n\n" +
-          ru::report::md_table({"format", "ray_box", "ray_tri_robust", "ray_tri_mt", "robust / MT"}, t);
+    const CellRows cr = run_cell_rows(ctx, "ray_osu018", pts);
+    Table t;
+    for (const auto& f : split_list(synth_formats)) {
+      auto um2 = [&](const char* u) {
+        const CellEnds* e = cr.find(u, f, 0);
+        return e ? e->small["area_um2"].get<double>() : std::nan("");
+      };
+      const double bx = um2("ray_box"), rb = um2("ray_tri_robust"), mt = um2("ray_tri_mt");
+      std::string src;
+      for (const char* u : {"ray_box", "ray_tri_robust", "ray_tri_mt"}) src += (src.empty() ? "" : "; ") + cr.find(u, f, 0)->source;
+      t.push_back({f, fmt("%.0f", bx), fmt("%.0f", rb), fmt("%.0f", mt), fmt("%.2f", rb / mt), src});
+    }
+    md += "\n### Area: robust vs Moller-Trumbore\n\n";
+    if (cr.n_live > 0) md += code_block(cr.cmd);
+    md += "Combinational units (Stages 0) in the cell flow (osu018, um2 of the area-oriented mapping at a 1 us "
+          "target; synth/README.md, \"The cell-library flow\"). Kensler estimates 35-42 % more arithmetic for the "
+          "robust test.\n\n" +
+          ru::report::md_table({"format", "ray_box (um2)", "ray_tri_robust (um2)", "ray_tri_mt (um2)", "robust / MT",
+                                "rows"},
+                               t) +
+          "\n" + cr.sources_md() + "Data: [ray_osu018.jsonl](ray_osu018.jsonl).\n";
   }
   return md;
 }
@@ -743,12 +821,15 @@ std::string noise_section(Context& ctx) {
 
   if (synth) {
     // Table 4.1 in this flow: the unit by pipeline depth, and the e8m23 FP units beside it.
-    // it does not fit an iCE40; the sweep's plot is for FP formats (the table shows the noise rows)
     std::vector<CellPoint> cell_pts = cell_points("noise.stages", {"noise"}, {}, stages);
     for (const char* u : {"fp_add", "fp_mul", "fp_dot3"}) cell_pts.push_back({u, "e8m23", 0});
-    const CellRows cr = run_cell_rows(ctx, "noise_osu018", cell_pts);
-    const Sweep nz = run_sweep(ctx, "noise_synth", "noise", "", stages, Flow::Ice40Luts, false);
-    const Sweep fp = run_sweep(ctx, "noise_fp_synth", "fp_add,fp_mul,fp_dot3", "e8m23", "0", Flow::Generic);
+    // the same points in the generic flow (its labelled NAND2-eq estimate), read or measured with them
+    std::vector<CellPoint> pts = cell_pts;
+    for (CellPoint p : cell_pts) {
+      p.rows = Rows::Generic;
+      pts.push_back(p);
+    }
+    const CellRows cr = run_cell_rows(ctx, "noise_osu018", pts);
     {
       Table t;
       for (const auto& p : cell_pts) {
@@ -760,26 +841,25 @@ std::string noise_section(Context& ctx) {
       std::vector<std::string> h{"unit", "format", "stages"};
       h.insert(h.end(), kCellHeader.begin(), kCellHeader.end());
       md += "### Area and speed by pipeline depth (Table 4.1 in this flow)\n\n" + std::string(kCellIntro);
-      if (cr.n_live > 0) md += code_block("cd REPORT && " + cr.cmd);
-      md += ru::report::md_table(h, t) + "\n" + cr.sources_md() +
+      if (cr.n_live > 0) md += code_block(cr.cmd);
+      md += ru::report::md_table(h, t) + "\n";
+    }
+    {
+      Table t;
+      for (const auto& p : cell_pts) {
+        std::vector<std::string> row{p.unit, p.format.empty() ? "-" : p.format, std::to_string(p.stages)};
+        auto k = cr.generic_cells(p.unit, p.format, p.stages);
+        row.insert(row.end(), k.begin(), k.end());
+        t.push_back(row);
+      }
+      md += "Generic gates (`--generic-only`: Yosys gates in NAND2 equivalents, worst-stage depth; estimates, not "
+            "a cell library; the noise unit does not fit an iCE40):\n\n" +
+            ru::report::md_table({"unit", "format", "stages", "area est. (NAND2-eq)", "register bits",
+                                  "depth (gates)", "stage est. (ps, fo4-v1)", "rows"},
+                                 t) +
+            "\n" + cr.sources_md() +
             "Data: [noise_osu018.jsonl](noise_osu018.jsonl) (every row used, with its \"report_source\").\n\n";
     }
-    Table t;
-    for (const auto& r : nz.rows) {
-      if (!r.error.empty()) {
-        t.push_back({std::to_string(r.stages), "error: " + r.error});
-        continue;
-      }
-      std::vector<std::string> row{std::to_string(r.stages)};
-      auto cells = synth_cells(r);
-      row.insert(row.end(), cells.begin(), cells.end());
-      t.push_back(row);
-    }
-    md += "Generic gates and iCE40 (measured now):\n\n" +
-          code_block("cd REPORT && " + nz.cmd + "\ncd REPORT && " + fp.cmd) +
-          ru::report::md_table({"stages", "area est. (NAND2-eq)", "register bits", "depth (gates)",
-                                "stage est. (ps, fo4-v1)", "iCE40 LUTs", "iCE40 Fmax (MHz)"},
-                               t);
     {
       auto um2 = [&](const std::string& u, const std::string& f) {
         const CellEnds* e = cr.find(u, f, 0);
@@ -787,14 +867,17 @@ std::string noise_section(Context& ctx) {
       };
       const double n = um2("noise", ""), a = um2("fp_add", "e8m23"), m = um2("fp_mul", "e8m23"),
                    d = um2("fp_dot3", "e8m23");
-      md += "\nIn osu018 (Stages 0, um2 of the smallest mappings): noise / (fp_add + fp_mul) = " + fmt("%.2f", n / (a + m)) +
+      md += "In osu018 (Stages 0, um2 of the smallest mappings): noise / (fp_add + fp_mul) = " + fmt("%.2f", n / (a + m)) +
             ", noise / fp_dot3 = " + fmt("%.2f", n / d) + " (noise " + fmt("%.0f", n) + ", fp_add " + fmt("%.0f", a) +
             ", fp_mul " + fmt("%.0f", m) + ", fp_dot3 " + fmt("%.0f", d) +
             "). The generic-gate ratios below are estimates.\n";
     }
-    const double n0 = nz.area("noise", "", 0);
-    const double add = fp.area("fp_add", "e8m23", 0), mul = fp.area("fp_mul", "e8m23", 0),
-                 dot = fp.area("fp_dot3", "e8m23", 0);
+    auto nand2 = [&](const std::string& u, const std::string& f) {
+      const CellEnds* e = cr.find(u, f, 0, true);
+      return e ? e->generic["area_nand2"].get<double>() : std::nan("");
+    };
+    const double n0 = nand2("noise", "");
+    const double add = nand2("fp_add", "e8m23"), mul = nand2("fp_mul", "e8m23"), dot = nand2("fp_dot3", "e8m23");
     md += "\nRatios (combinational, Stages 0): noise / e8m23 fp_add = " + fmt("%.2f", n0 / add) +
           ", noise / (fp_add + fp_mul) = " + fmt("%.2f", n0 / (add + mul)) +
           " (Kensler: about 2.0x an FP ALU), noise / e8m23 fp_dot3 = " + fmt("%.2f", n0 / dot) +
