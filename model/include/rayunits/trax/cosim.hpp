@@ -54,7 +54,7 @@ std::string header_line(const Config& cfg);
 
 // The RTL configurations the companion must have for this resolved chip: ray_box (OptConservative
 // by chip.box), ray_tri_robust or ray_tri_mt (no tie-break, eps test or volume outputs) and noise
-// (FracBits 8, IntBits 8, OutW 10), each in the chip's format at its latency as Stages — what
+// (the widths of noise::FixedConfig{}, the model the chip runs), each in the chip's format at its latency as Stages — what
 // tb/trax/cosim_main.cpp looks for when it reads header_line(). `rayunits trax --cosim-build`
 // builds exactly these (rtl::ensure_cosim).
 std::vector<std::pair<const synth::UnitSpec*, synth::UnitConfig>> companion_units(const Config& cfg);
