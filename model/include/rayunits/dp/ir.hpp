@@ -1,0 +1,183 @@
+// rayunits dp: a datapath IR — an expression DAG of a unit's arithmetic (issue 18 §1).
+//
+// A Graph is a list of nodes in topological order (a node's operands are earlier nodes), named
+// inputs and named outputs. Every FP node is ONE operation of one of the project's FP units
+// (ru_fp_add/sub, ru_fp_mul, ru_fp_div, ru_fp_fma, ru_fp_cmp min/max/compare), so a Graph is
+// at once:
+//   * a golden model: evaluate<T>() runs it in double, float or ru::num::Soft (any format),
+//     one operation per node in node order — bit for bit what the hand-written model of the
+//     same dataflow computes (tests/dp check Fig. 3.6 and Moller-Trumbore against
+//     units/ray_tri.hpp);
+//   * an exact-rational model: evaluate_exact() runs the same DAG in GMP rationals (no
+//     rounding), the reference of an error study;
+//   * a netlist of FP units, for an RTL emitter and for an operation-count area estimate.
+//
+// Node kinds: FP-valued (Add, Sub, Mul, Div, Fma, Neg, Abs, Min, Max, Select), Boolean-valued
+// (Lt, Gt, Le, Ge, Eq from FP operands; And, Or, Not, BConst). Inputs are FP values; an FP
+// constant is a double rounded into the format once (Const). Outputs name a node of either kind.
+//
+// Text form (print / parse, one node per line, '#' comments):
+//   in NAME            const VALUE          add A B     sub A B     mul A B     div A B
+//   fma A B C          neg A                abs A       min A B     max A B     sel P A B
+//   lt A B   gt A B    le A B   ge A B      eq A B      and P Q     or P Q      not P
+//   true | false       out NAME N
+// where A, B, ... are node numbers (0-based, earlier lines' nodes; `out` lines create none).
+#pragma once
+
+#include <gmpxx.h>
+
+#include <cstdint>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "rayunits/num/fp.hpp"
+
+namespace ru::dp {
+
+enum class Op : uint8_t {
+  Input, Const, Add, Sub, Mul, Div, Fma, Neg, Abs, Min, Max, Select,  // FP-valued
+  Lt, Gt, Le, Ge, Eq, And, Or, Not, BConst,                           // Boolean-valued
+};
+const char* op_name(Op o);
+bool op_is_bool(Op o);  // the node's value is a Boolean
+int op_arity(Op o);
+
+struct Node {
+  Op op = Op::Input;
+  int a = -1, b = -1, c = -1;  // operands (node numbers), -1 unused; Select: a ? b : c
+  double value = 0;            // Const: the value; BConst: 0 or 1
+  std::string name;            // Input: its name
+};
+
+class IrError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+class Graph {
+ public:
+  // Builders: each returns the new node's number and checks operand kinds (FP vs Boolean).
+  int input(const std::string& name);
+  int constant(double v);
+  int boolean(bool v);
+  int add(int a, int b) { return node(Op::Add, a, b); }
+  int sub(int a, int b) { return node(Op::Sub, a, b); }
+  int mul(int a, int b) { return node(Op::Mul, a, b); }
+  int div(int a, int b) { return node(Op::Div, a, b); }
+  int fma(int a, int b, int c) { return node(Op::Fma, a, b, c); }  // a*b + c, one rounding
+  int neg(int a) { return node(Op::Neg, a); }
+  int abs(int a) { return node(Op::Abs, a); }
+  int min(int a, int b) { return node(Op::Min, a, b); }
+  int max(int a, int b) { return node(Op::Max, a, b); }
+  int select(int p, int a, int b) { return node(Op::Select, p, a, b); }  // p ? a : b
+  int lt(int a, int b) { return node(Op::Lt, a, b); }
+  int gt(int a, int b) { return node(Op::Gt, a, b); }
+  int le(int a, int b) { return node(Op::Le, a, b); }
+  int ge(int a, int b) { return node(Op::Ge, a, b); }
+  int eq(int a, int b) { return node(Op::Eq, a, b); }
+  int land(int p, int q) { return node(Op::And, p, q); }
+  int lor(int p, int q) { return node(Op::Or, p, q); }
+  int lnot(int p) { return node(Op::Not, p); }
+  int node(Op op, int a = -1, int b = -1, int c = -1);
+  void output(const std::string& name, int n);
+
+  const std::vector<Node>& nodes() const { return nodes_; }
+  const std::vector<std::string>& inputs() const { return inputs_; }  // in order of creation
+  const std::vector<std::pair<std::string, int>>& outputs() const { return outputs_; }
+  int input_index(const std::string& name) const;  // position in inputs(), -1 if none
+  int output_node(const std::string& name) const;  // throws IrError if none
+
+  // Operations per kind of FP unit (add counts Add and Sub; cmp counts Lt..Eq, Min, Max) and
+  // the Boolean / select gates; what an area estimate multiplies by unit areas.
+  std::map<std::string, int> op_counts() const;
+  // Longest chain of FP unit operations from an input to any output (Neg/Abs/Select/Boolean
+  // nodes count 0: wiring and gates).
+  int fp_depth() const;
+
+  std::string print() const;
+  static Graph parse(const std::string& text);  // throws IrError "line N: ..."
+
+ private:
+  void check_operand(int n, bool want_bool, const char* what) const;
+  std::vector<Node> nodes_;
+  std::vector<std::string> inputs_;
+  std::vector<int> input_nodes_;
+  std::vector<std::pair<std::string, int>> outputs_;
+};
+
+// One node's value: FP (v) or Boolean (b).
+template <class T>
+struct Value {
+  T v{};
+  bool b = false;
+};
+
+namespace detail {
+template <class T>
+T fma_of(T a, T b, T c);
+template <>
+inline double fma_of<double>(double a, double b, double c) { return std::fma(a, b, c); }
+template <>
+inline float fma_of<float>(float a, float b, float c) { return std::fma(a, b, c); }
+template <>
+inline num::Soft fma_of<num::Soft>(num::Soft a, num::Soft b, num::Soft c) {
+  return num::Soft::wrap(num::fma(num::soft_format(), a.bits, b.bits, c.bits));
+}
+}  // namespace detail
+
+// Runs the graph in T (for Soft: in the thread's SoftScope format), one FP operation per node in
+// node order. in: one value per input, in the order of inputs(). Returns every node's value.
+template <class T>
+std::vector<Value<T>> evaluate(const Graph& g, const std::vector<T>& in) {
+  using namespace ru::num;
+  if (in.size() != g.inputs().size())
+    throw IrError("evaluate: " + std::to_string(in.size()) + " input values for " +
+                  std::to_string(g.inputs().size()) + " inputs");
+  const auto& ns = g.nodes();
+  std::vector<Value<T>> v(ns.size());
+  size_t next_in = 0;
+  for (size_t i = 0; i < ns.size(); ++i) {
+    const Node& n = ns[i];
+    Value<T>& r = v[i];
+    auto A = [&] { return v[n.a].v; };
+    auto B = [&] { return v[n.b].v; };
+    switch (n.op) {
+      case Op::Input: r.v = in[next_in++]; break;
+      case Op::Const: r.v = fp_cast<T>(n.value); break;
+      case Op::BConst: r.b = n.value != 0; break;
+      case Op::Add: r.v = A() + B(); break;
+      case Op::Sub: r.v = A() - B(); break;
+      case Op::Mul: r.v = A() * B(); break;
+      case Op::Div: r.v = A() / B(); break;
+      case Op::Fma: r.v = detail::fma_of<T>(A(), B(), v[n.c].v); break;
+      case Op::Neg: r.v = -A(); break;
+      case Op::Abs: r.v = fp_abs(A()); break;
+      case Op::Min: r.v = fp_min(A(), B()); break;
+      case Op::Max: r.v = fp_max(A(), B()); break;
+      case Op::Select: r.v = v[n.a].b ? v[n.b].v : v[n.c].v; break;
+      case Op::Lt: r.b = A() < B(); break;
+      case Op::Gt: r.b = A() > B(); break;
+      case Op::Le: r.b = A() <= B(); break;
+      case Op::Ge: r.b = A() >= B(); break;
+      case Op::Eq: r.b = A() == B(); break;
+      case Op::And: r.b = v[n.a].b && v[n.b].b; break;
+      case Op::Or: r.b = v[n.a].b || v[n.b].b; break;
+      case Op::Not: r.b = !v[n.a].b; break;
+    }
+  }
+  return v;
+}
+
+// The graph in exact rationals: every FP node's exact value (no rounding), comparisons exact.
+// Inputs must be finite; Min/Max/Select/Abs/Neg exact too. A division by an exact zero (or any
+// node depending on one) is undefined: defined[i] false, and comparisons on it are false.
+struct ExactValues {
+  std::vector<mpq_class> q;
+  std::vector<bool> b;
+  std::vector<bool> defined;
+};
+ExactValues evaluate_exact(const Graph& g, const std::vector<double>& in);
+
+}  // namespace ru::dp

@@ -1,0 +1,309 @@
+// Datapath IR (see rayunits/dp/ir.hpp).
+#include "rayunits/dp/ir.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+namespace ru::dp {
+
+namespace {
+struct OpInfo {
+  Op op;
+  const char* name;
+  int arity;
+  bool is_bool;    // result
+  bool bool_args;  // operands (Select: only the first)
+};
+constexpr OpInfo kOps[] = {
+    {Op::Input, "in", 0, false, false},  {Op::Const, "const", 0, false, false},
+    {Op::Add, "add", 2, false, false},   {Op::Sub, "sub", 2, false, false},
+    {Op::Mul, "mul", 2, false, false},   {Op::Div, "div", 2, false, false},
+    {Op::Fma, "fma", 3, false, false},   {Op::Neg, "neg", 1, false, false},
+    {Op::Abs, "abs", 1, false, false},   {Op::Min, "min", 2, false, false},
+    {Op::Max, "max", 2, false, false},   {Op::Select, "sel", 3, false, false},
+    {Op::Lt, "lt", 2, true, false},      {Op::Gt, "gt", 2, true, false},
+    {Op::Le, "le", 2, true, false},      {Op::Ge, "ge", 2, true, false},
+    {Op::Eq, "eq", 2, true, false},      {Op::And, "and", 2, true, true},
+    {Op::Or, "or", 2, true, true},       {Op::Not, "not", 1, true, true},
+    {Op::BConst, "bool", 0, true, false},
+};
+const OpInfo& info(Op o) {
+  for (const auto& i : kOps)
+    if (i.op == o) return i;
+  throw IrError("unknown op");
+}
+}  // namespace
+
+const char* op_name(Op o) { return info(o).name; }
+bool op_is_bool(Op o) { return info(o).is_bool; }
+int op_arity(Op o) { return info(o).arity; }
+
+void Graph::check_operand(int n, bool want_bool, const char* what) const {
+  if (n < 0 || n >= static_cast<int>(nodes_.size()))
+    throw IrError(std::string(what) + ": operand " + std::to_string(n) + " is not an earlier node (0.." +
+                  std::to_string(static_cast<int>(nodes_.size()) - 1) + ")");
+  if (op_is_bool(nodes_[n].op) != want_bool)
+    throw IrError(std::string(what) + ": operand " + std::to_string(n) + " is " +
+                  (want_bool ? "an FP value, a Boolean is needed" : "a Boolean, an FP value is needed"));
+}
+
+int Graph::node(Op op, int a, int b, int c) {
+  const OpInfo& i = info(op);
+  if (op == Op::Input || op == Op::Const || op == Op::BConst)
+    throw IrError(std::string(i.name) + ": use input() / constant() / boolean()");
+  const int args[3] = {a, b, c};
+  for (int k = 0; k < 3; ++k) {
+    if (k >= i.arity) {
+      if (args[k] != -1) throw IrError(std::string(i.name) + ": takes " + std::to_string(i.arity) + " operand(s)");
+      continue;
+    }
+    const bool want_bool = op == Op::Select ? k == 0 : i.bool_args;
+    check_operand(args[k], want_bool, i.name);
+  }
+  Node n;
+  n.op = op;
+  n.a = a, n.b = b, n.c = c;
+  nodes_.push_back(n);
+  return static_cast<int>(nodes_.size()) - 1;
+}
+
+int Graph::input(const std::string& name) {
+  if (name.empty() || name.find_first_of(" \t\n#") != std::string::npos)
+    throw IrError("input: bad name '" + name + "'");
+  if (input_index(name) >= 0) throw IrError("input '" + name + "' defined twice");
+  Node n;
+  n.op = Op::Input;
+  n.name = name;
+  nodes_.push_back(n);
+  inputs_.push_back(name);
+  input_nodes_.push_back(static_cast<int>(nodes_.size()) - 1);
+  return input_nodes_.back();
+}
+
+int Graph::constant(double v) {
+  if (!std::isfinite(v)) throw IrError("const: value must be finite");
+  Node n;
+  n.op = Op::Const;
+  n.value = v;
+  nodes_.push_back(n);
+  return static_cast<int>(nodes_.size()) - 1;
+}
+
+int Graph::boolean(bool v) {
+  Node n;
+  n.op = Op::BConst;
+  n.value = v ? 1 : 0;
+  nodes_.push_back(n);
+  return static_cast<int>(nodes_.size()) - 1;
+}
+
+void Graph::output(const std::string& name, int n) {
+  if (n < 0 || n >= static_cast<int>(nodes_.size())) throw IrError("out " + name + ": no node " + std::to_string(n));
+  for (const auto& o : outputs_)
+    if (o.first == name) throw IrError("output '" + name + "' defined twice");
+  outputs_.emplace_back(name, n);
+}
+
+int Graph::input_index(const std::string& name) const {
+  for (size_t i = 0; i < inputs_.size(); ++i)
+    if (inputs_[i] == name) return static_cast<int>(i);
+  return -1;
+}
+
+int Graph::output_node(const std::string& name) const {
+  for (const auto& o : outputs_)
+    if (o.first == name) return o.second;
+  throw IrError("no output '" + name + "'");
+}
+
+std::map<std::string, int> Graph::op_counts() const {
+  std::map<std::string, int> c;
+  for (const Node& n : nodes_) {
+    switch (n.op) {
+      case Op::Add: case Op::Sub: ++c["add"]; break;
+      case Op::Mul: ++c["mul"]; break;
+      case Op::Div: ++c["div"]; break;
+      case Op::Fma: ++c["fma"]; break;
+      case Op::Lt: case Op::Gt: case Op::Le: case Op::Ge: case Op::Eq: case Op::Min: case Op::Max: ++c["cmp"]; break;
+      case Op::Select: ++c["select"]; break;
+      case Op::And: case Op::Or: case Op::Not: ++c["gate"]; break;
+      default: break;
+    }
+  }
+  return c;
+}
+
+int Graph::fp_depth() const {
+  std::vector<int> d(nodes_.size(), 0);
+  int best = 0;
+  for (size_t i = 0; i < nodes_.size(); ++i) {
+    const Node& n = nodes_[i];
+    int m = 0;
+    for (int x : {n.a, n.b, n.c})
+      if (x >= 0) m = std::max(m, d[x]);
+    const bool unit = n.op == Op::Add || n.op == Op::Sub || n.op == Op::Mul || n.op == Op::Div || n.op == Op::Fma ||
+                      n.op == Op::Min || n.op == Op::Max || n.op == Op::Lt || n.op == Op::Gt || n.op == Op::Le ||
+                      n.op == Op::Ge || n.op == Op::Eq;
+    d[i] = m + (unit ? 1 : 0);
+  }
+  for (const auto& o : outputs_) best = std::max(best, d[o.second]);
+  return best;
+}
+
+std::string Graph::print() const {
+  std::ostringstream s;
+  for (size_t i = 0; i < nodes_.size(); ++i) {
+    const Node& n = nodes_[i];
+    switch (n.op) {
+      case Op::Input: s << "in " << n.name; break;
+      case Op::Const: {
+        char buf[40];
+        std::snprintf(buf, sizeof buf, "%.17g", n.value);
+        s << "const " << buf;
+        break;
+      }
+      case Op::BConst: s << (n.value != 0 ? "true" : "false"); break;
+      default:
+        s << op_name(n.op);
+        for (int x : {n.a, n.b, n.c})
+          if (x >= 0) s << " " << x;
+    }
+    s << "   # " << i << "\n";
+  }
+  for (const auto& o : outputs_) s << "out " << o.first << " " << o.second << "\n";
+  return s.str();
+}
+
+Graph Graph::parse(const std::string& text) {
+  Graph g;
+  std::istringstream in(text);
+  std::string line;
+  int lineno = 0;
+  while (std::getline(in, line)) {
+    ++lineno;
+    const size_t hash = line.find('#');
+    if (hash != std::string::npos) line.resize(hash);
+    std::istringstream ls(line);
+    std::string word;
+    if (!(ls >> word)) continue;
+    auto fail = [&](const std::string& why) { throw IrError("line " + std::to_string(lineno) + ": " + why); };
+    auto number = [&](const char* what) {
+      std::string t;
+      if (!(ls >> t)) fail(word + ": missing " + what);
+      size_t used = 0;
+      int v = -1;
+      try {
+        v = std::stoi(t, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != t.size() || v < 0) fail(word + ": " + what + " '" + t + "' is not a node number");
+      return v;
+    };
+    try {
+      if (word == "in") {
+        std::string name;
+        if (!(ls >> name)) fail("in: missing name");
+        g.input(name);
+      } else if (word == "const") {
+        std::string t;
+        if (!(ls >> t)) fail("const: missing value");
+        size_t used = 0;
+        double v = 0;
+        try {
+          v = std::stod(t, &used);
+        } catch (const std::exception&) {
+          used = 0;
+        }
+        if (used != t.size()) fail("const: '" + t + "' is not a number");
+        g.constant(v);
+      } else if (word == "true" || word == "false") {
+        g.boolean(word == "true");
+      } else if (word == "out") {
+        std::string name;
+        if (!(ls >> name)) fail("out: missing name");
+        g.output(name, number("node"));
+      } else {
+        const OpInfo* op = nullptr;
+        for (const auto& i : kOps)
+          if (word == i.name && i.arity > 0) op = &i;
+        if (!op)
+          fail("unknown operation '" + word +
+               "' (in const true false add sub mul div fma neg abs min max sel lt gt le ge eq and or not out)");
+        int args[3] = {-1, -1, -1};
+        for (int k = 0; k < op->arity; ++k) args[k] = number("operand");
+        g.node(op->op, args[0], args[1], args[2]);
+      }
+      std::string extra;
+      if (ls >> extra) fail("unexpected '" + extra + "'");
+    } catch (const IrError& e) {
+      const std::string m = e.what();
+      if (m.rfind("line ", 0) == 0) throw;
+      fail(m);
+    }
+  }
+  return g;
+}
+
+ExactValues evaluate_exact(const Graph& g, const std::vector<double>& in) {
+  if (in.size() != g.inputs().size())
+    throw IrError("evaluate_exact: " + std::to_string(in.size()) + " input values for " +
+                  std::to_string(g.inputs().size()) + " inputs");
+  const auto& ns = g.nodes();
+  ExactValues r;
+  r.q.resize(ns.size());
+  r.b.assign(ns.size(), false);
+  r.defined.assign(ns.size(), true);
+  size_t next_in = 0;
+  for (size_t i = 0; i < ns.size(); ++i) {
+    const Node& n = ns[i];
+    bool def = true;
+    for (int x : {n.a, n.b, n.c})
+      if (x >= 0 && !r.defined[x]) def = false;
+    if (n.op == Op::Select) def = r.defined[n.a] && r.defined[r.b[n.a] ? n.b : n.c];
+    r.defined[i] = def;
+    if (!def && n.op != Op::Input) continue;
+    const mpq_class* A = n.a >= 0 ? &r.q[n.a] : nullptr;
+    const mpq_class* B = n.b >= 0 ? &r.q[n.b] : nullptr;
+    switch (n.op) {
+      case Op::Input: {
+        const double x = in[next_in++];
+        if (!std::isfinite(x)) throw IrError("evaluate_exact: input '" + n.name + "' is not finite");
+        r.q[i] = mpq_class(x);
+        r.defined[i] = true;
+        break;
+      }
+      case Op::Const: r.q[i] = mpq_class(n.value); break;
+      case Op::BConst: r.b[i] = n.value != 0; break;
+      case Op::Add: r.q[i] = *A + *B; break;
+      case Op::Sub: r.q[i] = *A - *B; break;
+      case Op::Mul: r.q[i] = *A * *B; break;
+      case Op::Div:
+        if (sgn(*B) == 0) {
+          r.defined[i] = false;
+        } else {
+          r.q[i] = *A / *B;
+          r.q[i].canonicalize();
+        }
+        break;
+      case Op::Fma: r.q[i] = *A * *B + r.q[n.c]; break;
+      case Op::Neg: r.q[i] = -*A; break;
+      case Op::Abs: r.q[i] = ::abs(*A); break;
+      case Op::Min: r.q[i] = *A < *B ? *A : *B; break;
+      case Op::Max: r.q[i] = *A > *B ? *A : *B; break;
+      case Op::Select: r.q[i] = r.b[n.a] ? *B : r.q[n.c]; break;
+      case Op::Lt: r.b[i] = *A < *B; break;
+      case Op::Gt: r.b[i] = *A > *B; break;
+      case Op::Le: r.b[i] = *A <= *B; break;
+      case Op::Ge: r.b[i] = *A >= *B; break;
+      case Op::Eq: r.b[i] = *A == *B; break;
+      case Op::And: r.b[i] = r.b[n.a] && r.b[n.b]; break;
+      case Op::Or: r.b[i] = r.b[n.a] || r.b[n.b]; break;
+      case Op::Not: r.b[i] = !r.b[n.a]; break;
+    }
+  }
+  return r;
+}
+
+}  // namespace ru::dp
