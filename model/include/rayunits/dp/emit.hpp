@@ -1,0 +1,42 @@
+// rayunits dp: SystemVerilog from a datapath graph (issue 18 §1, the RTL emitter).
+//
+// emit_sv() writes one module that instantiates the project's FP units (ru_fp_add for add and
+// sub, ru_fp_mul, ru_fp_div, ru_fp_cmp for lt/gt/le/ge/eq/min/max) and places its pipeline
+// registers with the project's one mechanism, the level chain of ru_pipe_pkg
+// (rtl/ru_level_chain.svh), exactly as the hand-written ray units do:
+//   * every FP unit node gets a level: the latest ready level of its operands (an input or a
+//     constant is ready at level 0, a unit node's result at its level + 1; Boolean gates,
+//     selects, neg and abs are wiring and gates: ready with their last operand);
+//   * a level's kind (its segment weights in the chain) is the heaviest kind among its nodes
+//     (div > mul > add > cmp); instances of that kind get the level's cut selection
+//     (lcut(k)), the others automatic placement; every instance of level k has latency lat(k);
+//   * a value used at a later level than it is ready passes a ru_pipe delay line of
+//     span(ready, use) cycles; the outputs are delayed to the last level.
+// Ports: clk_i, rst_ni, in_valid_i, one W-bit input <name>_i per graph input (W = 1+ExpW+FracW),
+// out_valid_o (in_valid_i delayed by Stages), one output <name>_o per graph output (W bits, or
+// 1 bit for a Boolean). Parameters ExpW, FracW, Stages, Subnormals, Round as every FP unit.
+// Constants must be 0 or +-2^k (the emitted encoding; an elaboration check rejects one that is
+// not a normal number of the format). Fma has no level kind yet: rejected (IrError).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "rayunits/dp/ir.hpp"
+
+namespace ru::dp {
+
+struct Levels {
+  std::vector<int> level;  // per node: its level (unit nodes), -1 for others
+  std::vector<int> ready;  // per node: the level at whose start its value exists
+  std::vector<int> kind;   // per level: 0 add, 1 mul, 2 div, 3 cmp (ru_fp_pkg::KAdd ...)
+  int nlev = 0;
+};
+Levels levels(const Graph& g);
+
+std::string emit_sv(const Graph& g, const std::string& module);
+
+// The RTL files an emitted module needs, in compile order (names under rtl/).
+std::vector<std::string> emit_sources();
+
+}  // namespace ru::dp
