@@ -13,6 +13,7 @@
 #include "../common/temp_dir.hpp"
 #include "rayunits/dp/emit.hpp"
 #include "rayunits/dp/formulas.hpp"
+#include "rayunits/synth/units.hpp"
 #include "rayunits/util/process.hpp"
 
 namespace {
@@ -75,6 +76,21 @@ TEST(LongDpEmit, EmittedUnitsAreLintClean) {
     for (const char* fmt : {"-GExpW=5 -GFracW=10", "-GExpW=8 -GFracW=23"})
       for (int stages : {0, 9, 80}) cases.push_back({robust ? "ru_dp_robust" : "ru_dp_mt", robust, fmt, stages});
   lint(cases);
+}
+
+// The registry's dp_* units are the emitter's output, checked in (regenerate: rayunits dp emit
+// <design> --out rtl). A stale file (e.g. after an emitter change) fails here.
+TEST(DpRtl, CheckedInModulesAreTheEmitterOutput) {
+  int n = 0;
+  for (const auto& u : ru::synth::units()) {
+    if (u.name.rfind("dp_", 0) != 0) continue;
+    const std::string design = u.name.substr(3), rtl = std::string(RU_SOURCE_DIR) + "/rtl/";
+    EXPECT_EQ(ru::test::slurp(rtl + u.top + ".sv"), emit_sv(find_design(design).make(), u.top))
+        << "rtl/" << u.top << ".sv is stale: rayunits dp emit " << design << " --out rtl";
+    EXPECT_EQ(ru::test::slurp(rtl + u.top + ".f"), emit_filelist(u.top));
+    ++n;
+  }
+  EXPECT_EQ(n, 2);
 }
 
 TEST(DpEmit, UnsupportedGraphsAreOneLineErrors) {

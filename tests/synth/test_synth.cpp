@@ -9,6 +9,7 @@
 #include <regex>
 #include <sstream>
 
+#include "rayunits/dp/formulas.hpp"
 #include "rayunits/synth/flow.hpp"
 #include "rayunits/synth/gen.hpp"
 #include "rayunits/synth/process.hpp"
@@ -128,6 +129,14 @@ TEST(SynthRegistry, PortWidthsFollowTheFormat) {
                                              {"vol_o", 5 * w}};
         EXPECT_EQ(width.size(), want.size() + 4);
         for (const auto& [name, bits] : want) EXPECT_EQ(width[name], bits) << name;
+        continue;
+      }
+      if (u.name.rfind("dp_", 0) == 0) {  // emitted from the IR: a W-bit port per graph input/output
+        const ru::dp::Graph g = ru::dp::find_design(u.name.substr(3)).make();
+        EXPECT_EQ(width.size(), g.inputs().size() + g.outputs().size() + 4);
+        for (const auto& in : g.inputs()) EXPECT_EQ(width[in + "_i"], w) << in;
+        for (const auto& [name, n] : g.outputs())
+          EXPECT_EQ(width[name + "_o"], ru::dp::op_is_bool(g.nodes()[n].op) ? 1 : w) << name;
         continue;
       }
       if (u.name == "fp_cvt") {  // rtl/ru_fp_cvt.sv: a_i max(W, 1+InExpW+InFracW, IntW), y_o max(W, IntW)

@@ -66,6 +66,12 @@ std::vector<std::string> emit_sources() {
           "ru_fp_round_pack.sv", "ru_umul.sv", "ru_fp_add.sv", "ru_fp_mul.sv", "ru_fp_div.sv", "ru_fp_cmp.sv"};
 }
 
+std::string emit_filelist(const std::string& module) {
+  std::string f;
+  for (const auto& s : emit_sources()) f += s + "\n";
+  return f + module + ".sv\n";
+}
+
 std::string emit_sv(const Graph& g, const std::string& module) {
   const auto& ns = g.nodes();
   const Levels L = levels(g);

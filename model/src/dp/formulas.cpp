@@ -138,6 +138,26 @@ Graph ray_tri_mt_graph() {
   return g;
 }
 
+const std::vector<Design>& designs() {
+  static const std::vector<Design> d = {
+      {"ray_tri_robust", "Kensler Fig. 3.6 (units::ray_tri_robust, no tie-break)", [] { return ray_tri_robust_graph(); }},
+      {"ray_tri_robust_tie", "Fig. 3.6 with its zero-volume tie-break", [] { return ray_tri_robust_graph(true); }},
+      {"ray_tri_robust_recip", "Fig. 3.6, one reciprocal 1/V and three multiplications",
+       [] { return ray_tri_robust_graph(false, true); }},
+      {"ray_tri_mt", "Moller-Trumbore, Eq. 3.2 (units::ray_tri_mt)", [] { return ray_tri_mt_graph(); }},
+  };
+  return d;
+}
+
+const Design& find_design(const std::string& name) {
+  std::string known;
+  for (const auto& d : designs()) {
+    if (d.name == name) return d;
+    known += (known.empty() ? "" : ", ") + d.name;
+  }
+  throw IrError("unknown design '" + name + "' (designs: " + known + ")");
+}
+
 std::vector<double> tri_inputs(const units::TriRecord& r) {
   return {r.a.x,  r.a.y,  r.a.z,  r.d.x,  r.d.y,  r.d.z,  r.p0.x, r.p0.y, r.p0.z,
           r.p1.x, r.p1.y, r.p1.z, r.p2.x, r.p2.y, r.p2.z, r.t_min, r.t_max};

@@ -6,6 +6,7 @@
 #include <memory>
 #include <string>
 
+#include "rayunits/dp/formulas.hpp"
 #include "rayunits/noise/fixed.hpp"
 #include "rayunits/num/fp.hpp"
 #include "rayunits/num/patterns.hpp"
@@ -280,6 +281,20 @@ GoldenEval ray_tri_golden(const UnitConfig& c, bool robust) {
     out[4] = r.gamma.bits;
     const uint64_t v[5] = {r.V.bits, r.Va.bits, r.V0.bits, r.V1.bits, r.V2.bits};
     for (int i = 0; i < 5; ++i) out[5 + i] = vol ? v[i] : 0;  // vol_o is constant 0 without OptVolOut
+  };
+}
+
+GoldenEval dp_golden(const UnitConfig& c, const std::string& design) {
+  auto g = std::make_shared<dp::Graph>(dp::find_design(design).make());
+  const Format f = c.fmt;
+  return [g, f](const uint64_t* in, uint64_t* out) {
+    num::SoftScope scope(f);
+    std::vector<Soft> x(g->inputs().size());
+    for (size_t i = 0; i < x.size(); ++i) x[i] = Soft::from_bits(in[i]);
+    const auto v = dp::evaluate<Soft>(*g, x);
+    size_t j = 0;
+    for (const auto& [name, n] : g->outputs())
+      out[j++] = dp::op_is_bool(g->nodes()[n].op) ? (v[n].b ? 1 : 0) : v[n].v.bits;
   };
 }
 

@@ -1,6 +1,8 @@
 // The unit registry and the wrapper generator. See rayunits/synth/units.hpp.
 #include "rayunits/synth/units.hpp"
 
+#include "rayunits/dp/formulas.hpp"
+
 #include <algorithm>
 #include <cstdint>
 #include <cstdio>
@@ -316,6 +318,39 @@ std::vector<UnitSpec> make_units() {
     // robust: 4*6 + 2*(L+5) + (M+6) + 3 segments (OptRecip: + L+5 for the multiplications);
     // MT: 5*6 + 3*(L+5) + (M+6) + 3; minus one
     s.max_stages_expr = robust ? "2*L+M+42+OptRecip*(L+5)" : "3*L+M+53";
+    u.push_back(std::move(s));
+  }
+  // Units emitted from the datapath IR (issue 18 §1, docs/DATAPATH.md): `rayunits dp emit <design>
+  // --out rtl` wrote rtl/ru_dp_<design>.sv/.f (ctest DpRtl.CheckedInModulesAreTheEmitterOutput). The
+  // same dataflow as the hand-written units, so the same level chain and maximum Stages; one
+  // W-bit port per graph input and output (a Boolean output is 1 bit); the golden model is the
+  // graph itself (models::dp_golden); the inputs are the ray-triangle workload (17 fields in the
+  // graphs' input order).
+  for (const bool robust : {true, false}) {
+    const std::string design = robust ? "ray_tri_robust" : "ray_tri_mt";
+    UnitSpec s;
+    s.name = "dp_" + design;
+    s.top = "ru_dp_" + design;
+    s.summary = std::string(robust ? "Kensler Fig. 3.6" : "Moller-Trumbore") +
+                " emitted from the datapath IR (rayunits dp emit " + design + ")";
+    s.filelist = s.top + ".f";
+    s.synth_share = false;
+    s.params = fp_params();
+    s.ports = control_ports();
+    const dp::Graph g = dp::find_design(design).make();
+    for (const auto& in : g.inputs()) s.ports.push_back(fin((in + "_i").c_str(), "W", ("graph input " + in).c_str()));
+    s.ports.push_back(out_valid());
+    for (const auto& [name, n] : g.outputs()) {
+      const std::string pn = name + "_o", doc = "graph output " + name;
+      s.ports.push_back(dp::op_is_bool(g.nodes()[n].op) ? out(pn.c_str(), "1", doc.c_str())
+                                                         : fout(pn.c_str(), "W", doc.c_str()));
+    }
+    s.golden = [design](const UnitConfig& c) { return models::dp_golden(c, design); };
+    s.random_inputs = models::ray_tri_inputs;
+    s.large_model = true;
+    s.tests = {robust ? "e5m10:smax+1" : "e5m10:smax+1:selftest"};  // e5m10: the build is ~1/3 of e8m23's
+    s.long_tests = {"e8m23:smax+1", "e8m23:s0", "e7m16:s20:rtz", "e5m10-ftz:s2"};
+    s.max_stages_expr = robust ? "2*L+M+42" : "3*L+M+53";  // as ray_tri_robust / ray_tri_mt above
     u.push_back(std::move(s));
   }
   {

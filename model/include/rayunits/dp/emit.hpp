@@ -38,5 +38,7 @@ std::string emit_sv(const Graph& g, const std::string& module);
 
 // The RTL files an emitted module needs, in compile order (names under rtl/).
 std::vector<std::string> emit_sources();
+// The file list of an emitted module (emit_sources(), then MODULE.sv; one per line): MODULE.f.
+std::string emit_filelist(const std::string& module);
 
 }  // namespace ru::dp

@@ -10,6 +10,7 @@
 // Outputs: hit (Boolean), t, beta, gamma, V, Va, V1, V2, and V0 for the robust unit.
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include "rayunits/dp/ir.hpp"
@@ -24,6 +25,15 @@ namespace ru::dp {
 Graph ray_tri_robust_graph(bool tie_break = false, bool reciprocal = false);
 // Moller-Trumbore, Eq. 3.2 (units::ray_tri_mt; no eps test).
 Graph ray_tri_mt_graph();
+
+// The named designs (`rayunits dp list`): ray_tri_robust, ray_tri_robust_tie, ray_tri_robust_recip,
+// ray_tri_mt. find_design throws IrError naming the known ones.
+struct Design {
+  std::string name, summary;
+  Graph (*make)();
+};
+const std::vector<Design>& designs();
+const Design& find_design(const std::string& name);
 
 // The 17 input values of a ray-triangle record, in the graphs' input order.
 std::vector<double> tri_inputs(const units::TriRecord& r);

@@ -55,6 +55,10 @@ InputGen ray_box_inputs(const UnitConfig& c, uint64_t seed);
 //   -> hit why t beta gamma V Va V0 V1 V2 (the volumes 0 unless OptVolOut = 1)
 GoldenEval ray_tri_golden(const UnitConfig& c, bool robust);
 InputGen ray_tri_inputs(const UnitConfig& c, uint64_t seed);
+// A design of the datapath IR (dp/formulas.hpp, by name) as the golden model of its emitted module
+// (rayunits dp emit): the graph evaluated in Soft, one output field per graph output (a Boolean
+// output is 0/1).
+GoldenEval dp_golden(const UnitConfig& c, const std::string& design);
 // noise: x y z -> value
 GoldenEval noise_golden(const UnitConfig& c);
 InputGen noise_inputs(const UnitConfig& c, uint64_t seed);

@@ -1,0 +1,90 @@
+// rayunits dp: the datapath IR (docs/DATAPATH.md) — list the named designs, print a graph, count
+// its operations, emit its SystemVerilog module.
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+#include "cli_util.hpp"
+#include "command.hpp"
+#include "rayunits/dp/emit.hpp"
+#include "rayunits/dp/formulas.hpp"
+#include "rayunits/synth/process.hpp"
+
+namespace ru::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+// A design name, or a file in the text form (docs/DATAPATH.md).
+dp::Graph load(const std::string& what) {
+  for (const auto& d : dp::designs())
+    if (d.name == what) return d.make();
+  if (what.find('/') != std::string::npos || what.find('.') != std::string::npos) {
+    if (!fs::is_regular_file(what)) throw UsageError("no such graph file: " + what);
+    try {
+      return dp::Graph::parse(synth::read_file(what));
+    } catch (const dp::IrError& e) {
+      throw UsageError(what + ": " + e.what());
+    }
+  }
+  try {
+    dp::find_design(what);
+  } catch (const dp::IrError& e) {
+    throw UsageError(std::string(e.what()) + "; or a graph file (a path)");
+  }
+  return {};
+}
+
+int run_dp(int argc, char** argv) {
+  CLI::App app{"The datapath IR (docs/DATAPATH.md): `list` the named designs; `print`, `count` or `emit` a "
+               "design or a graph file. emit writes DIR/MODULE.sv (the module, registers placed by the level "
+               "chain) and DIR/MODULE.f (its RTL file list).",
+               "rayunits dp"};
+  app.require_subcommand(1);
+  auto* list = app.add_subcommand("list", "the named designs");
+  std::string what, module, out = ".";
+  auto* print = app.add_subcommand("print", "the graph in the text form");
+  print->add_option("design", what, "design name or graph file")->required();
+  auto* count = app.add_subcommand("count", "operations per unit kind and the FP depth (levels)");
+  count->add_option("design", what, "design name or graph file")->required();
+  auto* emit = app.add_subcommand("emit", "SystemVerilog module and file list");
+  emit->add_option("design", what, "design name or graph file")->required();
+  emit->add_option("--module", module, "module name (default ru_dp_<design>)");
+  emit->add_option("--out", out, "output directory (default .)");
+  if (!parse_args(app, argc, argv)) return 0;
+
+  if (list->parsed()) {
+    for (const auto& d : dp::designs()) std::printf("%-22s %s\n", d.name.c_str(), d.summary.c_str());
+    return 0;
+  }
+  const dp::Graph g = load(what);
+  if (print->parsed()) {
+    std::fputs(g.print().c_str(), stdout);
+  } else if (count->parsed()) {
+    for (const auto& [k, n] : g.op_counts()) std::printf("%s %d\n", k.c_str(), n);
+    std::printf("levels %d\n", g.fp_depth());
+  } else {
+    if (module.empty()) {
+      if (what.find('/') != std::string::npos || what.find('.') != std::string::npos)
+        throw UsageError("emit: --module is needed for a graph file");
+      module = "ru_dp_" + what;
+    }
+    std::string sv;
+    try {
+      sv = dp::emit_sv(g, module);
+    } catch (const dp::IrError& e) {
+      throw UsageError(e.what());
+    }
+    if (!fs::is_directory(out)) throw UsageError("--out: no such directory: " + out);
+    synth::write_file_atomic((fs::path(out) / (module + ".sv")).string(), sv);
+    synth::write_file_atomic((fs::path(out) / (module + ".f")).string(), dp::emit_filelist(module));
+    std::printf("wrote %s/%s.sv and %s.f\n", out.c_str(), module.c_str(), module.c_str());
+  }
+  return 0;
+}
+
+}  // namespace
+
+RU_COMMAND("dp", "datapath IR: list, print, count or emit (SystemVerilog) a design", run_dp);
+
+}  // namespace ru::cli

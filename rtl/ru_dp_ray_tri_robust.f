@@ -1,0 +1,13 @@
+ru_pipe_pkg.sv
+ru_fp_pkg.sv
+ru_pipe.sv
+ru_lzc.sv
+ru_fp_classify.sv
+ru_fp_normalize.sv
+ru_fp_round_pack.sv
+ru_umul.sv
+ru_fp_add.sv
+ru_fp_mul.sv
+ru_fp_div.sv
+ru_fp_cmp.sv
+ru_dp_ray_tri_robust.sv
