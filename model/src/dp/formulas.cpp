@@ -51,6 +51,22 @@ TriInputs tri_inputs(Graph& g) {
   return t;
 }
 
+// The common tail of the triangle graphs: hit = accept & t_min < t < t_max, and the outputs in
+// the order every triangle design has them (V0 only when the design computes it, v0 >= 0).
+void tri_outputs(Graph& g, const TriInputs& in, int accept, int t, int beta, int gamma, int V, int Va, int v0, int V1,
+                 int V2) {
+  const int in_range = g.land(g.lt(in.tmin, t), g.lt(t, in.tmax));
+  g.output("hit", g.land(accept, in_range));
+  g.output("t", t);
+  g.output("beta", beta);
+  g.output("gamma", gamma);
+  g.output("V", V);
+  g.output("Va", Va);
+  if (v0 >= 0) g.output("V0", v0);
+  g.output("V1", V1);
+  g.output("V2", V2);
+}
+
 }  // namespace
 
 Graph ray_tri_robust_graph(bool tie_break, bool reciprocal) {
@@ -93,16 +109,7 @@ Graph ray_tri_robust_graph(bool tie_break, bool reciprocal) {
     const int tie = g.lor(g.lor(g.land(g.eq(V0, zero), s0), g.land(g.eq(V1, zero), s1)), g.land(g.eq(V2, zero), s2));
     ok = g.land(ok, g.lnot(tie));
   }
-  const int in_range = g.land(g.lt(in.tmin, t), g.lt(t, in.tmax));
-  g.output("hit", g.land(ok, in_range));
-  g.output("t", t);
-  g.output("beta", beta);
-  g.output("gamma", gamma);
-  g.output("V", V);
-  g.output("Va", Va);
-  g.output("V0", V0);
-  g.output("V1", V1);
-  g.output("V2", V2);
+  tri_outputs(g, in, ok, t, beta, gamma, V, Va, V0, V1, V2);
   return g;
 }
 
@@ -126,15 +133,7 @@ Graph ray_tri_mt_graph() {
   const int sum = g.add(beta, gamma);
   const int zero = g.constant(0.0);
   const int inside = g.land(g.land(g.ge(beta, zero), g.ge(gamma, zero)), g.le(sum, one));
-  const int in_range = g.land(g.lt(in.tmin, t), g.lt(t, in.tmax));
-  g.output("hit", g.land(inside, in_range));
-  g.output("t", t);
-  g.output("beta", beta);
-  g.output("gamma", gamma);
-  g.output("V", V);
-  g.output("Va", Va);
-  g.output("V1", V1);
-  g.output("V2", V2);
+  tri_outputs(g, in, inside, t, beta, gamma, V, Va, -1, V1, V2);
   return g;
 }
 
