@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <fstream>
+#include <regex>
 #include <string>
 #include <vector>
 
@@ -20,16 +21,40 @@ namespace {
 
 using namespace ru::dp;
 
-// ru_fp_pkg kinds of the level chains of rtl/ru_ray_tri_mt.sv ("add mul add mul add add div mul
-// add cmp") and rtl/ru_ray_tri_robust.sv ("add mul add mul add add div cmp"), from their Kinds
-// comments (units.cpp's registry comment says the same).
+// The level kinds of the hand-written units, read from their RTL (the `Kinds` localparams of
+// rtl/ru_ray_tri_mt.sv and rtl/ru_ray_tri_robust.sv: ru_fp_pkg::K* tokens, highest level first).
+std::vector<int> kinds_in(const std::string& text) {
+  std::vector<int> v;
+  const std::regex re(R"(ru_fp_pkg::K(Add|Mul|Div|Cmp))");
+  for (auto it = std::sregex_iterator(text.begin(), text.end(), re); it != std::sregex_iterator(); ++it) {
+    const std::string k = (*it)[1].str();
+    v.insert(v.begin(), k == "Add" ? 0 : k == "Mul" ? 1 : k == "Div" ? 2 : 3);  // level 0 is the last token
+  }
+  return v;
+}
+std::string statement(const std::string& text, const std::string& head) {
+  const size_t p = text.find(head);
+  if (p == std::string::npos) return "";
+  return text.substr(p, text.find(';', p) - p);
+}
+
 TEST(DpEmit, LevelKindsAreTheHandWrittenUnits) {
-  const std::vector<int> mt = {0, 1, 0, 1, 0, 0, 2, 1, 0, 3}, robust = {0, 1, 0, 1, 0, 0, 2, 3};
+  const std::string rtl = std::string(RU_SOURCE_DIR) + "/rtl/";
+  const std::string mt_text = ru::test::slurp(rtl + "ru_ray_tri_mt.sv"), rb_text = ru::test::slurp(rtl + "ru_ray_tri_robust.sv");
+  const std::vector<int> mt = kinds_in(statement(mt_text, "localparam logic [4*ru_pipe_pkg::MaxLev-1:0] Kinds"));
+  // robust: Kinds = (R != 0) ? {upper levels with OptRecip, KindsL0to5} : {upper levels, KindsL0to5}
+  const std::vector<int> low = kinds_in(statement(rb_text, "localparam logic [31:0] KindsL0to5"));
+  const std::string kinds = statement(rb_text, "localparam logic [4*ru_pipe_pkg::MaxLev-1:0] Kinds");
+  const size_t q = kinds.find('?'), c = kinds.find(": {", q);  // the else branch (not a [23:0] slice)
+  ASSERT_TRUE(q != std::string::npos && c != std::string::npos) << kinds;
+  std::vector<int> robust = low, recip = low;
+  for (int k : kinds_in(kinds.substr(c))) robust.push_back(k);
+  for (int k : kinds_in(kinds.substr(q, c - q))) recip.push_back(k);
+  ASSERT_EQ(mt.size(), 10u);  // the statements were found (NLev of each unit: DpIr.LevelsAreTheRtlLevelChains)
+  ASSERT_EQ(robust.size(), 8u);
   EXPECT_EQ(levels(ray_tri_mt_graph()).kind, mt);
   EXPECT_EQ(levels(ray_tri_robust_graph()).kind, robust);
   EXPECT_EQ(levels(ray_tri_robust_graph(true)).kind, robust);
-  std::vector<int> recip = robust;
-  recip.insert(recip.begin() + 7, 1);  // L6 div (the reciprocal), L7 mul, L8 cmp
   EXPECT_EQ(levels(ray_tri_robust_graph(false, true)).kind, recip);
 }
 
