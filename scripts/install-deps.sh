@@ -10,6 +10,8 @@ PKGS=(
   libgmp-dev libmpfr-dev libfftw3-dev
   libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libstb-dev
   python3 python3-matplotlib python3-numpy libassimp-dev
+  # NSGA-II of the datapath search (rayunits search, model/src/dp/search.cpp)
+  libpagmo-dev
   # The cell-library flow (synth --flow osu018): the liberty, OpenSTA, ABC, and qflow's back
   # end for place and route (synth/pnr). --no-install-recommends: each is named.
   qflow-tech-osu018 qflow-tech-osu035 qflow-tech-osu050 opensta berkeley-abc

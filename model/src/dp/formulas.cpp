@@ -1,6 +1,9 @@
 // Today's ray-triangle units in the datapath IR (see rayunits/dp/formulas.hpp).
 #include "rayunits/dp/formulas.hpp"
 
+#include <algorithm>
+#include <map>
+
 namespace ru::dp {
 
 namespace {
@@ -17,9 +20,24 @@ V3 cross(Graph& g, V3 u, V3 v) {
   const int z = g.sub(g.mul(u.x, v.y), g.mul(u.y, v.x));
   return {x, y, z};
 }
-int dot(Graph& g, V3 u, V3 v) {
-  const int xy = g.add(g.mul(u.x, v.x), g.mul(u.y, v.y));
-  return g.add(xy, g.mul(u.z, v.z));
+// dot(u, v) in one of three associations (TriGenome::dot); 0 is vec.hpp's (xx + yy) + zz.
+// (Node order of association 0: yy, xx, xx + yy, zz, sum — the order the checked-in emitted RTL
+// has, rtl/ru_dp_*.sv.)
+int dot(Graph& g, V3 u, V3 v, int assoc = 0) {
+  if (assoc == 1) {
+    const int xx = g.mul(u.x, v.x), yy = g.mul(u.y, v.y), zz = g.mul(u.z, v.z);
+    return g.add(xx, g.add(yy, zz));
+  }
+  if (assoc == 2) {
+    const int xx = g.mul(u.x, v.x), zz = g.mul(u.z, v.z);
+    const int xz = g.add(xx, zz);
+    return g.add(xz, g.mul(u.y, v.y));
+  }
+  const int yy = g.mul(u.y, v.y);
+  const int xx = g.mul(u.x, v.x);
+  const int xy = g.add(xx, yy);
+  const int zz = g.mul(u.z, v.z);
+  return g.add(xy, zz);
 }
 // units::lex_first_is_min(l, r): l unless r is lexicographically smaller (x, then y, then z).
 int lex_first_is_min(Graph& g, V3 l, V3 r) {
@@ -51,11 +69,10 @@ TriInputs tri_inputs(Graph& g) {
   return t;
 }
 
-// The common tail of the triangle graphs: hit = accept & t_min < t < t_max, and the outputs in
-// the order every triangle design has them (V0 only when the design computes it, v0 >= 0).
-void tri_outputs(Graph& g, const TriInputs& in, int accept, int t, int beta, int gamma, int V, int Va, int v0, int V1,
+// The common tail of the triangle graphs: hit = accept & in_range, and the outputs in the order
+// every triangle design has them (V0 only when the design computes it, v0 >= 0).
+void tri_outputs(Graph& g, int accept, int in_range, int t, int beta, int gamma, int V, int Va, int v0, int V1,
                  int V2) {
-  const int in_range = g.land(g.lt(in.tmin, t), g.lt(t, in.tmax));
   g.output("hit", g.land(accept, in_range));
   g.output("t", t);
   g.output("beta", beta);
@@ -67,53 +84,94 @@ void tri_outputs(Graph& g, const TriInputs& in, int accept, int t, int beta, int
   g.output("V2", V2);
 }
 
-}  // namespace
+// t_min < t < t_max: on the quotient (interval 0), or on Va against t_min V and t_max V with the
+// sides chosen by the sign of V (interval 1; V = 0 or NaN products: no hit).
+int in_range(Graph& g, const TriInputs& in, int interval, int t, int V, int Va, int zero) {
+  if (interval == 0) return g.land(g.lt(in.tmin, t), g.lt(t, in.tmax));
+  const int lo = g.mul(in.tmin, V), hi = g.mul(in.tmax, V);
+  const int pos = g.gt(V, zero);
+  const int r_pos = g.land(g.lt(lo, Va), g.lt(Va, hi));
+  const int r_neg = g.land(g.lt(hi, Va), g.lt(Va, lo));
+  return g.lor(g.land(pos, r_pos), g.land(g.lnot(pos), r_neg));
+}
 
-Graph ray_tri_robust_graph(bool tie_break, bool reciprocal) {
+// Three quotients n_k / V: three divisions, or one reciprocal 1/V (one: the constant 1's node, or
+// -1 to make it here) and three products, in the order given.
+std::array<int, 3> divide(Graph& g, int how, int V, std::array<int, 3> num, int one = -1) {
+  std::array<int, 3> q{};
+  if (how == 1) {
+    const int inv = g.div(one >= 0 ? one : g.constant(1.0), V);
+    for (int k = 0; k < 3; ++k) q[k] = g.mul(num[k], inv);
+  } else {
+    for (int k = 0; k < 3; ++k) q[k] = g.div(num[k], V);
+  }
+  return q;
+}
+
+Graph signed_volume_graph(const TriGenome& G) {
   Graph g;
   const TriInputs in = tri_inputs(g);
-  const V3 e0 = vsub(g, in.p1, in.p2);
-  const V3 e1 = vsub(g, in.p2, in.p0);
-  const V3 e2 = vsub(g, in.p0, in.p1);
-  const int s0 = lex_first_is_min(g, in.p1, in.p2);
-  const int s1 = lex_first_is_min(g, in.p2, in.p0);
-  const int s2 = lex_first_is_min(g, in.p0, in.p1);
-  // a - m_i as in the RTL: the three differences a - p_j beside the edges, then a selection
-  // (the model's vsub(a, m_i) is one of them: the same operation on the same operands)
-  const V3 ap0 = vsub(g, in.a, in.p0), ap1 = vsub(g, in.a, in.p1), ap2 = vsub(g, in.a, in.p2);
-  const V3 am0 = select(g, s0, ap1, ap2);
-  const V3 am1 = select(g, s1, ap2, ap0);
-  const V3 am2 = select(g, s2, ap0, ap1);
-  const int V0 = dot(g, cross(g, am0, in.d), e0);
-  const int V1 = dot(g, cross(g, am1, in.d), e1);
-  const int V2 = dot(g, cross(g, am2, in.d), e2);
-  const V3 N = cross(g, e1, e0);
-  const int V = dot(g, N, in.d);
-  const int Va = dot(g, N, vsub(g, in.p2, in.a));
-  int t, beta, gamma;
-  if (reciprocal) {
-    const int inv = g.div(g.constant(1.0), V);
-    t = g.mul(Va, inv);
-    beta = g.mul(V1, inv);
-    gamma = g.mul(V2, inv);
+  const V3 p[3] = {in.p0, in.p1, in.p2};
+  // edge i runs from p_j to p_k, (j, k) = (1, 2), (2, 0), (0, 1): e_i = p_j - p_k as in Fig. 3.6
+  // (e0 = p1 - p2), the edge opposite p_i
+  const int J[3] = {1, 2, 0}, K[3] = {2, 0, 1};
+  // The normal's edge pair (b x a) of denom 0..2; denom 3 uses the pair of 0 for Va.
+  static const int kPair[3][2] = {{1, 0}, {2, 1}, {0, 2}};
+  const int npair = G.denom == 3 ? 0 : G.denom;
+  const bool need_normal = G.denom < 3 || G.va < 3;
+  bool need_edge[3] = {G.edge_form < 3, G.edge_form < 3, G.edge_form < 3};
+  if (need_normal) need_edge[kPair[npair][0]] = need_edge[kPair[npair][1]] = true;
+  V3 e[3]{};
+  for (int i = 0; i < 3; ++i)
+    if (need_edge[i]) e[i] = vsub(g, p[J[i]], p[K[i]]);
+  int s[3] = {-1, -1, -1};
+  if ((G.edge_form < 3 && G.origin == 0) || G.tie)
+    for (int i = 0; i < 3; ++i) s[i] = lex_first_is_min(g, p[J[i]], p[K[i]]);
+  int Vi[3];
+  V3 pa[3]{};  // p_j - a, made when first needed
+  bool have_pa[3] = {false, false, false};
+  auto p_minus_a = [&](int j) {
+    if (!have_pa[j]) pa[j] = vsub(g, p[j], in.a), have_pa[j] = true;
+    return pa[j];
+  };
+  if (G.edge_form < 3) {
+    // a - m_i as in the RTL: the three differences a - p_j, then (origin 0) a selection
+    const V3 ap[3] = {vsub(g, in.a, in.p0), vsub(g, in.a, in.p1), vsub(g, in.a, in.p2)};
+    V3 am[3];
+    for (int i = 0; i < 3; ++i)
+      am[i] = G.origin == 0 ? select(g, s[i], ap[J[i]], ap[K[i]]) : G.origin == 1 ? ap[J[i]] : ap[K[i]];
+    for (int i = 0; i < 3; ++i) {
+      if (G.edge_form == 0) Vi[i] = dot(g, cross(g, am[i], in.d), e[i], G.dot);
+      else if (G.edge_form == 1) Vi[i] = dot(g, cross(g, in.d, e[i]), am[i], G.dot);
+      else Vi[i] = dot(g, cross(g, e[i], am[i]), in.d, G.dot);
+    }
   } else {
-    t = g.div(Va, V);
-    beta = g.div(V1, V);
-    gamma = g.div(V2, V);
+    for (int j = 0; j < 3; ++j) p_minus_a(j);
+    for (int i = 0; i < 3; ++i) Vi[i] = dot(g, cross(g, pa[K[i]], pa[J[i]]), in.d, G.dot);
   }
+  V3 N{};
+  if (need_normal) N = cross(g, e[kPair[npair][0]], e[kPair[npair][1]]);
+  const int V = G.denom < 3 ? dot(g, N, in.d, G.dot) : g.add(g.add(Vi[0], Vi[1]), Vi[2]);
+  // Va = N . (p_k - a) for any vertex k, or the triple product (u1 x u0) . u2 of u_k = p_k - a
+  static const int kVaVertex[3] = {2, 0, 1};
+  const int Va = G.va < 3 ? dot(g, N, p_minus_a(kVaVertex[G.va]), G.dot)
+                          : dot(g, cross(g, p_minus_a(1), p_minus_a(0)), p_minus_a(2), G.dot);
+  const auto [t, beta, gamma] = divide(g, G.divide, V, {Va, Vi[1], Vi[2]});
   const int zero = g.constant(0.0);
-  const int any_neg = g.lor(g.lor(g.lt(V0, zero), g.lt(V1, zero)), g.lt(V2, zero));
-  const int any_pos = g.lor(g.lor(g.gt(V0, zero), g.gt(V1, zero)), g.gt(V2, zero));
+  const int any_neg = g.lor(g.lor(g.lt(Vi[0], zero), g.lt(Vi[1], zero)), g.lt(Vi[2], zero));
+  const int any_pos = g.lor(g.lor(g.gt(Vi[0], zero), g.gt(Vi[1], zero)), g.gt(Vi[2], zero));
   int ok = g.lnot(g.land(any_neg, any_pos));
-  if (tie_break) {
-    const int tie = g.lor(g.lor(g.land(g.eq(V0, zero), s0), g.land(g.eq(V1, zero), s1)), g.land(g.eq(V2, zero), s2));
+  if (G.tie) {
+    const int tie = g.lor(g.lor(g.land(g.eq(Vi[0], zero), s[0]), g.land(g.eq(Vi[1], zero), s[1])),
+                          g.land(g.eq(Vi[2], zero), s[2]));
     ok = g.land(ok, g.lnot(tie));
   }
-  tri_outputs(g, in, ok, t, beta, gamma, V, Va, V0, V1, V2);
+  const int range = in_range(g, in, G.interval, t, V, Va, zero);
+  tri_outputs(g, ok, range, t, beta, gamma, V, Va, Vi[0], Vi[1], Vi[2]);
   return g;
 }
 
-Graph ray_tri_mt_graph() {
+Graph mt_graph(const TriGenome& G) {
   Graph g;
   const TriInputs in = tri_inputs(g);
   const V3 e1 = vsub(g, in.p1, in.p0);
@@ -121,21 +179,127 @@ Graph ray_tri_mt_graph() {
   const V3 s = vsub(g, in.a, in.p0);
   const V3 q = cross(g, in.d, e2);
   const V3 r = cross(g, s, e1);
-  const int V = dot(g, q, e1);
-  const int V1 = dot(g, q, s);
-  const int V2 = dot(g, r, in.d);
-  const int Va = dot(g, r, e2);
+  const int V = dot(g, q, e1, G.dot);
+  const int V1 = dot(g, q, s, G.dot);
+  const int V2 = dot(g, r, in.d, G.dot);
+  const int Va = dot(g, r, e2, G.dot);
   const int one = g.constant(1.0);
-  const int inv = g.div(one, V);
-  const int beta = g.mul(V1, inv);
-  const int gamma = g.mul(V2, inv);
-  const int t = g.mul(Va, inv);
+  const auto [beta, gamma, t] = divide(g, G.divide, V, {V1, V2, Va}, one);
   const int sum = g.add(beta, gamma);
   const int zero = g.constant(0.0);
   const int inside = g.land(g.land(g.ge(beta, zero), g.ge(gamma, zero)), g.le(sum, one));
-  tri_outputs(g, in, inside, t, beta, gamma, V, Va, -1, V1, V2);
+  const int range = in_range(g, in, G.interval, t, V, Va, zero);
+  tri_outputs(g, inside, range, t, beta, gamma, V, Va, -1, V1, V2);
   return g;
 }
+
+}  // namespace
+
+const std::array<const char*, kTriGenes>& tri_gene_names() {
+  static const std::array<const char*, kTriGenes> n = {"family", "edge_form", "origin",   "denom", "va",
+                                                       "divide", "interval",  "tie", "dot"};
+  return n;
+}
+
+std::vector<int> to_vector(const TriGenome& g) {
+  return {g.family, g.edge_form, g.origin, g.denom, g.va, g.divide, g.interval, g.tie, g.dot};
+}
+
+TriGenome tri_genome(const std::vector<int>& v) {
+  if (v.size() != kTriGenes)
+    throw IrError("a ray-triangle genome has " + std::to_string(kTriGenes) + " genes, got " + std::to_string(v.size()));
+  for (int i = 0; i < kTriGenes; ++i)
+    if (v[i] < 0 || v[i] >= kTriGeneCount[i])
+      throw IrError(std::string("gene ") + tri_gene_names()[i] + " must be 0.." + std::to_string(kTriGeneCount[i] - 1) +
+                    ", got " + std::to_string(v[i]));
+  return {v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8]};
+}
+
+TriGenome canonical(const TriGenome& g) {
+  TriGenome c = g;
+  if (c.family == 1) {
+    c.edge_form = c.origin = c.denom = c.va = c.tie = 0;
+  } else if (c.edge_form == 3) {
+    c.origin = 0;  // form 3 has no origin
+  }
+  return c;
+}
+
+std::string genome_name(const TriGenome& g0) {
+  const TriGenome g = canonical(g0);
+  auto n = [](char c, int v) { return std::string("-") + c + std::to_string(v); };
+  if (g.family == 1) return "mt" + n('q', g.divide) + n('i', g.interval) + n('p', g.dot);
+  return "sv" + n('f', g.edge_form) + n('o', g.origin) + n('d', g.denom) + n('a', g.va) + n('q', g.divide) +
+         n('i', g.interval) + n('t', g.tie) + n('p', g.dot);
+}
+
+TriGenome parse_genome_name(const std::string& s) {
+  const std::string form = "'sv-f<0-3>-o<0-2>-d<0-3>-a<0-3>-q<0-1>-i<0-1>-t<0-1>-p<0-2>' or 'mt-q<0-1>-i<0-1>-p<0-2>'";
+  auto bad = [&] { return IrError("bad genome name '" + s + "' (accepted: " + form + ")"); };
+  std::vector<std::string> parts;
+  size_t i = 0;
+  while (i <= s.size()) {
+    const size_t j = std::min(s.find('-', i), s.size());
+    parts.push_back(s.substr(i, j - i));
+    i = j + 1;
+  }
+  const bool mt = parts[0] == "mt";
+  if (!mt && parts[0] != "sv") throw bad();
+  const std::string letters = mt ? "qip" : "foda" "qitp";
+  if (parts.size() != letters.size() + 1) throw bad();
+  std::map<char, int> v;
+  for (size_t k = 0; k < letters.size(); ++k) {
+    const std::string& p = parts[k + 1];
+    if (p.size() != 2 || p[0] != letters[k] || p[1] < '0' || p[1] > '9') throw bad();
+    v[p[0]] = p[1] - '0';
+  }
+  try {
+    return tri_genome({mt ? 1 : 0, v['f'], v['o'], v['d'], v['a'], v['q'], v['i'], v['t'], v['p']});
+  } catch (const IrError&) {
+    throw bad();
+  }
+}
+
+TriGenome fig36_genome() { return TriGenome{}; }
+TriGenome mt_genome() {
+  TriGenome g;
+  g.family = 1;
+  g.divide = 1;
+  return g;
+}
+
+TriGenome start_genome(const std::string& name) {
+  TriGenome g;
+  if (name == "fig36") return g;
+  if (name == "fig36_tie") return g.tie = 1, g;
+  if (name == "fig36_recip") return g.divide = 1, g;
+  if (name == "mt") return mt_genome();
+  if (name == "worst") {
+    g.origin = 1;
+    g.va = 3;
+    g.interval = 1;
+    g.tie = 1;
+    g.dot = 1;
+    return g;
+  }
+  if (name.rfind("sv-", 0) == 0 || name.rfind("mt-", 0) == 0) return parse_genome_name(name);
+  throw IrError("unknown start '" + name + "' (accepted: fig36, fig36_tie, fig36_recip, mt, worst, or a genome name "
+                "such as sv-f0-o0-d0-a0-q0-i0-t0-p0)");
+}
+
+Graph tri_graph(const TriGenome& g0) {
+  const TriGenome g = canonical(tri_genome(to_vector(g0)));
+  return g.family == 1 ? mt_graph(g) : signed_volume_graph(g);
+}
+
+Graph ray_tri_robust_graph(bool tie_break, bool reciprocal) {
+  TriGenome g = fig36_genome();
+  g.tie = tie_break;
+  g.divide = reciprocal;
+  return tri_graph(g);
+}
+
+Graph ray_tri_mt_graph() { return tri_graph(mt_genome()); }
 
 const std::vector<Design>& designs() {
   static const std::vector<Design> d = {

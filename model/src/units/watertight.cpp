@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <mutex>
+#include <type_traits>
 
 #include "rayunits/num/fp.hpp"
 #include "rayunits/units/exact.hpp"
@@ -179,6 +180,12 @@ int count_hits(const Prepared& P, const Ray& r, const std::vector<int>& cand, co
     const auto& tri = (*P.tris)[t];
     const Vec3<T> p0 = vcast<T>(P.v[tri[0]]), p1 = vcast<T>(P.v[tri[1]]), p2 = vcast<T>(P.v[tri[2]]);
     bool hit;
+    if constexpr (std::is_same_v<T, Soft>) {
+      if (opt.unit) {
+        hits += opt.unit(a, d, p0, p1, p2, tmin, tmax);
+        continue;
+      }
+    }
     if (opt.exact) {
       const auto res = ray_tri_exact(a, d, p0, p1, p2, tmin, tmax, opt.exact_opt);
       hit = res.hit;
@@ -223,7 +230,8 @@ WatertightResult run_watertight(const Mesh& mesh, const WatertightOptions& opt) 
   }
 
   const Format f32{8, 23, true, ru::num::Round::RNE}, f64{11, 52, true, ru::num::Round::RNE};
-  const int mode = opt.fmt == f32 ? 1 : opt.fmt == f64 ? 2 : 0;  // native paths are bit-identical
+  // native paths are bit-identical; a unit given as a function runs in Soft
+  const int mode = opt.unit ? 0 : opt.fmt == f32 ? 1 : opt.fmt == f64 ? 2 : 0;
 
   WatertightResult res;
   res.triangles = mesh.tris.size();

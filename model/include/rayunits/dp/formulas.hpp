@@ -10,6 +10,7 @@
 // Outputs: hit (Boolean), t, beta, gamma, V, Va, V1, V2, and V0 for the robust unit.
 #pragma once
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,50 @@
 #include "rayunits/units/trace.hpp"
 
 namespace ru::dp {
+
+// The family of ray-triangle formulations the search (dp/search.hpp) moves over; every design
+// below is one of its genomes, and tri_graph() is the one place the graphs are written.
+// The moves. Gene values are integers in [0, kTriGeneCount[i]).
+struct TriGenome {
+  int family = 0;     // 0 signed volumes (Kensler §3.2-3.4), 1 Moller-Trumbore (Eq. 3.2)
+  int edge_form = 0;  // signed volumes, V_i of edge e_i = p_j - p_k, (j, k) = (1, 2), (2, 0), (0, 1):
+                      //   0 ((a - m_i) x d) . e_i   (Fig. 3.6)
+                      //   1 (d x e_i) . (a - m_i)
+                      //   2 (e_i x (a - m_i)) . d
+                      //   3 ((p_k - a) x (p_j - a)) . d   (no edge vector and no origin: a
+                      //     neighbour traversing the edge the other way computes the exact negation)
+  int origin = 0;     // m_i: 0 the lexicographically smaller end of the edge (Fig. 3.6: both
+                      //   neighbours use the same point), 1 p_j, 2 p_k (vertex order: neighbours differ)
+  int denom = 0;      // V: 0 (e1 x e0) . d (Fig. 3.6), 1 (e2 x e1) . d, 2 (e0 x e2) . d,
+                      //   3 (V0 + V1) + V2 (no normal)
+  int va = 0;         // Va: 0 N . (p2 - a) (Fig. 3.6), 1 N . (p0 - a), 2 N . (p1 - a) with N the
+                      //   normal of `denom` (e1 x e0 when denom = 3), 3 ((p1 - a) x (p0 - a)) . (p2 - a)
+  int divide = 0;     // 0 three divisions Va/V, V1/V, V2/V; 1 one reciprocal 1/V and three products
+  int interval = 0;   // 0 t_min < t < t_max on the quotient; 1 Va against t_min V and t_max V
+                      //   (sides chosen by the sign of V: the interval test does not wait for the division)
+  int tie = 0;        // 1: Fig. 3.6's zero-volume tie-break (reject V_i = 0 on edges whose
+                      //   first end is the lexicographic minimum)
+  int dot = 0;        // association of every dot product: 0 (xx + yy) + zz, 1 xx + (yy + zz), 2 (xx + zz) + yy
+  // Moller-Trumbore uses divide, interval and dot; the other genes are ignored (canonical()).
+};
+constexpr int kTriGenes = 9;
+constexpr std::array<int, kTriGenes> kTriGeneCount = {2, 4, 3, 4, 4, 2, 2, 2, 3};
+const std::array<const char*, kTriGenes>& tri_gene_names();
+
+std::vector<int> to_vector(const TriGenome& g);
+TriGenome tri_genome(const std::vector<int>& v);  // throws IrError for a wrong length or value
+TriGenome canonical(const TriGenome& g);  // genes the family ignores set to 0
+// "sv-f0-o0-d0-a0-q0-i0-t0-p0" / "mt-q1-i0-p0" (q divide, i interval, t tie, p dot association)
+std::string genome_name(const TriGenome& g);
+TriGenome parse_genome_name(const std::string& s);  // throws IrError naming the accepted form
+TriGenome fig36_genome();  // ray_tri_robust_graph(): Fig. 3.6 without its tie-break
+TriGenome mt_genome();     // ray_tri_mt_graph()
+// Start formulations by name: fig36, fig36_tie, fig36_recip, mt, worst (a deliberately worse one:
+// vertex-order origins, Va as a second triple product, the interval by products, tie-break,
+// xx + (yy + zz)), or a
+// genome name.
+TriGenome start_genome(const std::string& name);
+Graph tri_graph(const TriGenome& g);
 
 // Kensler Fig. 3.6 (units::ray_tri_robust; tie_break = TriOptions::tie_break; no eps test);
 // reciprocal: the cheaper one-reciprocal variant units::ray_tri_robust_recip (1/V, then three

@@ -49,6 +49,12 @@ struct WatertightOptions {
   uint64_t seed = 1;
   int threads = 2;
   std::function<void(size_t done, size_t total)> progress;
+  // A ray-triangle unit given as a function of its inputs in the format (e.g. a datapath graph of
+  // dp/search.hpp): when set it is the unit tested (robust/tri/exact are ignored), run in Soft.
+  using Vs = Vec3<ru::num::Soft>;
+  std::function<bool(const Vs& a, const Vs& d, const Vs& p0, const Vs& p1, const Vs& p2, ru::num::Soft t_min,
+                     ru::num::Soft t_max)>
+      unit;
 };
 
 struct WatertightCounts {

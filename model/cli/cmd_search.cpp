@@ -1,0 +1,226 @@
+// rayunits search tri: NSGA-II over ray-triangle formulations on area x error x watertightness
+// (issue 18 §2, docs/DATAPATH.md "The search").
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "cli_util.hpp"
+#include "command.hpp"
+#include "rayunits/dp/search.hpp"
+#include "rayunits/synth/args.hpp"
+#include "rayunits/synth/process.hpp"
+#include "rayunits/units/synthetic.hpp"
+#include "rayunits/util/parallel.hpp"
+
+namespace ru::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string fmt_g(double v, int prec = 4) {
+  char b[48];
+  std::snprintf(b, sizeof b, "%.*g", prec, v);
+  return b;
+}
+
+std::string csv_header() {
+  return "genome,area_um2,units_um2,reg_um2,latency,add,mul,div,cmp,mean_rel,max_rel,mean_rel_t,mean_rel_beta,"
+         "mean_rel_gamma,nan,wrong_hits,leaks,double_hits,failures,role";
+}
+
+std::string csv_row(const dp::TriGenome& g, const dp::Fitness& f, const std::string& role) {
+  auto op = [&](const char* k) {
+    const auto it = f.cost.ops.find(k);
+    return std::to_string(it == f.cost.ops.end() ? 0 : it->second);
+  };
+  return dp::genome_name(g) + "," + fmt_g(f.cost.area_um2, 8) + "," + fmt_g(f.cost.units_um2, 8) + "," +
+         fmt_g(f.cost.reg_um2, 8) + "," + std::to_string(f.cost.latency) + "," + op("add") + "," + op("mul") + "," +
+         op("div") + "," + op("cmp") + "," + fmt_g(f.mean_rel, 6) + "," + fmt_g(f.max_rel, 6) + "," +
+         fmt_g(f.mean_tbg[0], 6) + "," + fmt_g(f.mean_tbg[1], 6) + "," + fmt_g(f.mean_tbg[2], 6) + "," +
+         std::to_string(f.nan) + "," + std::to_string(f.wrong_hits) + "," + std::to_string(f.leaks) + "," +
+         std::to_string(f.double_hits) + "," + std::to_string(f.failures()) + "," + role;
+}
+
+int run_search_cmd(int argc, char** argv) {
+  CLI::App app{"Searches ray-triangle formulations (docs/DATAPATH.md \"The search\") with NSGA-II on four "
+               "objectives: area at the clock (a cost model built from the cell-library flow's FP-unit rows, "
+               "an estimate), mean and max relative error of t, beta, gamma against exact rationals, and "
+               "failures (watertightness leaks + double hits on a closed mesh + wrong hit decisions). "
+               "Resumable: run the same command again to continue; a larger --budget extends a finished run. "
+               "Writes DIR/front.json, front.csv, evaluations.jsonl, state.json, cell_rows.jsonl, designs/<genome>.dp.",
+               "rayunits search"};
+  app.require_subcommand(1);
+  auto* tri = app.add_subcommand("tri", "ray-triangle formulations (the only kind so far)");
+  std::string format = "e7m16", clock = "250MHz", out, start = "fig36", trace, mesh_name = "icosphere", rows,
+              library = "osu018";
+  long budget = 480;
+  int population = 24, threads = static_cast<int>(util::hardware_threads());
+  unsigned long long seed = 1;
+  size_t records = 2048, mesh_rays = 400;
+  bool quiet = false, no_characterize = false;
+  tri->add_option("--format", format, "number format eXmY[-ftz] (default e7m16)");
+  tri->add_option("--clock", clock, "target clock (250MHz, 4ns, 4000ps; default 250MHz)");
+  tri->add_option("--budget", budget, "evaluations: population x (generations + 1) (default 480)");
+  tri->add_option("--out", out, "output directory (created; an unfinished search there is resumed)")->required();
+  tri->add_option("--population", population, "NSGA-II population, a multiple of 4, >= 8 (default 24)");
+  tri->add_option("--seed", seed, "seed (default 1): same seed, same front");
+  tri->add_option("--start", start,
+                  "start formulation: fig36, fig36_tie, fig36_recip, mt, worst or a genome name (default fig36)");
+  tri->add_option("--trace", trace, "binary trace of ray-triangle records (rayunits render --trace-out)");
+  tri->add_option("--records", records, "records used: N evenly spaced records of the trace, or N synthetic (default 2048)");
+  tri->add_option("--mesh", mesh_name,
+                  std::string("closed mesh for the watertightness counts: a .off/.obj file or ") +
+                      units::builtin_mesh_names() + " (default icosphere)");
+  tri->add_option("--mesh-rays", mesh_rays, "edge + vertex rays (and half as many near-vertex rays) (default 400)");
+  tri->add_option("--rows", rows, "directory of cell-flow rows (default <source>/synth/results/cell)");
+  tri->add_option("--library", library, "cell library of the rows (default osu018)");
+  tri->add_option("--threads", threads, "evaluation threads (default: all cores)");
+  tri->add_flag("--no-characterize", no_characterize,
+                "use only existing rows (default: FP units without a current row meeting the clock are synthesized "
+                "in the cell flow now, rows appended to DIR/cell_rows.jsonl)");
+  tri->add_flag("--quiet", quiet, "no progress lines");
+  if (!parse_args(app, argc, argv)) return 0;
+
+  const num::Format fmt = num::Format::parse(format);
+  const double period_ps = synth::parse_clock_ps("--clock", clock);
+  if (budget < population) throw UsageError("--budget must be at least --population (" + std::to_string(population) + ")");
+  if (records < 1) throw UsageError("--records must be at least 1");
+  if (rows.empty()) rows = (fs::path(synth::default_rtl_dir()).parent_path() / "synth" / "results" / "cell").string();
+  const dp::TriGenome start_genome = [&] {
+    try {
+      return dp::start_genome(start);
+    } catch (const dp::IrError& e) {
+      throw UsageError(std::string("--start: ") + e.what());
+    }
+  }();
+  auto say = [&](const std::string& s) {
+    if (!quiet) std::fprintf(stderr, "[search tri] %s\n", s.c_str());
+  };
+
+  const synth::CellLibrary& lib = synth::cell_library(library);
+  fs::create_directories(out);
+  const dp::CostModel cm = dp::CostModel::build({rows}, lib, fmt, period_ps,
+                                                no_characterize ? "" : (fs::path(out) / "cell_rows.jsonl").string(), say);
+  for (const auto& [u, ch] : cm.units())
+    say("cost model: " + u + " " + fmt.name() + " Stages " + std::to_string(ch.stages) + ", " +
+        fmt_g(ch.area_um2, 7) + " um2, " + fmt_g(ch.period_ps, 5) + " ps (" + ch.point + ")");
+
+  std::vector<units::TriRecord> recs;
+  if (!trace.empty()) {
+    recs = units::read_trace(trace).tris;
+    if (recs.empty()) throw UsageError("trace " + trace + " holds no ray-triangle records");
+    if (recs.size() > records) {  // evenly spaced records of the whole trace
+      std::vector<units::TriRecord> sub;
+      for (size_t i = 0; i < records; ++i) sub.push_back(recs[i * recs.size() / records]);
+      recs.swap(sub);
+    }
+  } else {
+    units::SynthTriOptions so;
+    so.seed = seed;
+    so.rays_per_packet = 8;
+    so.triangles = (records + so.rays_per_packet - 1) / so.rays_per_packet;
+    recs = units::synth_tri(so);
+    if (recs.size() > records) recs.resize(records);
+  }
+  units::Mesh mesh = fs::is_regular_file(mesh_name) ? units::load_mesh(mesh_name) : units::builtin_mesh(mesh_name);
+  const auto t0 = std::chrono::steady_clock::now();
+  const dp::Workload w = dp::make_workload(recs, fmt, std::move(mesh), mesh_rays, seed);
+  say("workload: " + std::to_string(w.in.size()) + " records (" + std::to_string(w.skipped) +
+      " skipped: an input overflows " + fmt.name() + "), mesh " + w.mesh.name + " with " +
+      std::to_string(mesh_rays + mesh_rays / 2) + " rays");
+
+  const nlohmann::json context = {{"kind", "tri"},
+                                  {"format", fmt.name()},
+                                  {"round", num::round_name(fmt.round)},
+                                  {"period_ps", period_ps},
+                                  {"workload", w.hash},
+                                  {"records", w.in.size()},
+                                  {"trace", trace.empty() ? std::string("synthetic") : fs::path(trace).filename().string()},
+                                  {"mesh", w.mesh.name},
+                                  {"mesh_rays", mesh_rays},
+                                  {"cost_model", cm.to_json()}};
+  dp::SearchOptions so;
+  so.out_dir = out;
+  so.start = start_genome;
+  so.start_name = start;
+  so.population = population;
+  so.generations = static_cast<int>(std::max(0L, (budget + population - 1) / population - 1));
+  so.seed = seed;
+  so.threads = threads;
+  so.progress = say;
+  dp::SearchResult res;
+  try {
+    res = dp::run_search(so, w, cm, context);
+  } catch (const dp::IrError& e) {
+    throw UsageError(e.what());
+  }
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+
+  // The hand designs under the same workload and cost model, beside the front.
+  struct Ref {
+    const char* name;
+    dp::TriGenome g;
+  };
+  std::vector<Ref> refs = {{"fig36", dp::start_genome("fig36")},
+                           {"fig36_tie", dp::start_genome("fig36_tie")},
+                           {"fig36_recip", dp::start_genome("fig36_recip")},
+                           {"mt", dp::mt_genome()}};
+  std::vector<dp::Fitness> ref_fit(refs.size());
+  util::parallel_for(refs.size(), threads,
+                     [&](size_t i) { ref_fit[i] = dp::evaluate_fitness(dp::tri_graph(refs[i].g), w, cm); });
+
+  fs::create_directories(fs::path(out) / "designs");
+  nlohmann::json front = nlohmann::json::array(), refj = nlohmann::json::array();
+  std::string csv = csv_header() + "\n";
+  for (const auto& c : res.front) {
+    const std::string name = dp::genome_name(c.genome);
+    synth::write_file_atomic((fs::path(out) / "designs" / (name + ".dp")).string(), dp::tri_graph(c.genome).print());
+    front.push_back({{"genome", name}, {"genes", dp::to_vector(c.genome)}, {"key", c.key}, {"fitness", to_json(c.fit)},
+                     {"verified_rtl", false}});
+    csv += csv_row(c.genome, c.fit, "front") + "\n";
+  }
+  for (size_t i = 0; i < refs.size(); ++i) {
+    refj.push_back({{"name", refs[i].name}, {"genome", dp::genome_name(refs[i].g)}, {"fitness", to_json(ref_fit[i])}});
+    csv += csv_row(refs[i].g, ref_fit[i], std::string("reference:") + refs[i].name) + "\n";
+  }
+  const nlohmann::json doc = {{"command", command_line("rayunits search", argc, argv)},
+                              {"context", context},
+                              {"start", dp::genome_name(start_genome)},
+                              {"population", population},
+                              {"generations", so.generations},
+                              {"seed", seed},
+                              {"objectives", {"area_um2 (cost model estimate)", "mean_rel", "max_rel", "failures"}},
+                              {"front", front},
+                              {"references", refj},
+                              {"evaluations_this_run", res.evaluations},
+                              {"note", "front designs are not yet verified cycle by cycle (issue 18 section 2)"}};
+  synth::write_file_atomic((fs::path(out) / "front.json").string(), doc.dump(1) + "\n");
+  synth::write_file_atomic((fs::path(out) / "front.csv").string(), csv);
+
+  std::printf("search tri %s at %s ps: %d generations of %d, %zu new evaluations (%.1f s); front of %zu designs\n",
+              fmt.name().c_str(), fmt_g(period_ps, 6).c_str(), so.generations, population, res.evaluations, secs,
+              res.front.size());
+  std::printf("%-40s %12s %4s %10s %10s %8s %6s %7s\n", "design", "area_um2", "lat", "mean_rel", "max_rel", "wrong",
+              "leaks", "double");
+  auto line = [&](const std::string& n, const dp::Fitness& f) {
+    std::printf("%-40s %12.0f %4d %10.3g %10.3g %8llu %6llu %7llu\n", n.c_str(), f.cost.area_um2, f.cost.latency,
+                f.mean_rel, f.max_rel, static_cast<unsigned long long>(f.wrong_hits),
+                static_cast<unsigned long long>(f.leaks), static_cast<unsigned long long>(f.double_hits));
+  };
+  for (const auto& c : res.front) line(dp::genome_name(c.genome), c.fit);
+  std::printf("references:\n");
+  for (size_t i = 0; i < refs.size(); ++i) line(std::string(refs[i].name) + " " + dp::genome_name(refs[i].g), ref_fit[i]);
+  std::printf("area: cost-model estimate (FP-unit cell rows + liberty registers); wrote %s/front.json, front.csv, "
+              "designs/\n",
+              out.c_str());
+  return 0;
+}
+
+}  // namespace
+
+RU_COMMAND("search", "search ray-triangle formulations on area x error x watertightness (NSGA-II)", run_search_cmd);
+
+}  // namespace ru::cli

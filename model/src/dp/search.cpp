@@ -1,0 +1,656 @@
+// rayunits dp: the search over ray-triangle formulations (see rayunits/dp/search.hpp).
+#include "rayunits/dp/search.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <mutex>
+#include <pagmo/algorithms/nsga2.hpp>
+#include <pagmo/bfe.hpp>
+#include <pagmo/population.hpp>
+#include <pagmo/problem.hpp>
+#include <set>
+#include <sstream>
+
+#include "rayunits/num/fp.hpp"
+#include "rayunits/synth/checked_in.hpp"
+#include "rayunits/synth/flow.hpp"
+#include "rayunits/units/exact.hpp"
+#include "rayunits/units/watertight.hpp"
+#include "rayunits/util/hash.hpp"
+#include "rayunits/util/parallel.hpp"
+#include "rayunits/util/rng.hpp"
+
+namespace ru::dp {
+
+namespace fs = std::filesystem;
+using num::Format;
+using num::Soft;
+
+// ---- cost model ------------------------------------------------------------------------------
+
+namespace {
+
+// The registry unit that carries out a kind of graph operation (op_counts keys).
+const std::map<std::string, std::string>& kind_units() {
+  static const std::map<std::string, std::string> m = {
+      {"add", "fp_add"}, {"mul", "fp_mul"}, {"div", "fp_div"}, {"cmp", "fp_cmp"}};
+  return m;
+}
+
+std::string unit_of(Op o) {
+  switch (o) {
+    case Op::Add:
+    case Op::Sub: return "fp_add";
+    case Op::Mul: return "fp_mul";
+    case Op::Div: return "fp_div";
+    case Op::Fma: return "fp_fma";
+    case Op::Min:
+    case Op::Max:
+    case Op::Lt:
+    case Op::Gt:
+    case Op::Le:
+    case Op::Ge:
+    case Op::Eq: return "fp_cmp";
+    default: return "";
+  }
+}
+
+double lib_area(const synth::CellLibrary& lib, const std::string& cell) {
+  const auto it = lib.area.find(cell);
+  if (it == lib.area.end())
+    throw synth::SynthError("cost model: the library " + lib.name + " has no cell " + cell);
+  return it->second;
+}
+
+}  // namespace
+
+namespace {
+
+struct Pick {
+  bool found = false;
+  UnitChoice best;
+  double fastest = INFINITY;
+  std::string fastest_point;
+  UnitChoice fastest_row;  // the fastest current row (unit empty: none)
+  size_t stale = 0;
+};
+
+Pick pick_row(const std::vector<synth::CheckedInRow>& rows, const std::string& unit, const std::string& library,
+              const Format& fmt, double period_ps, const std::string& hash) {
+  Pick p;
+  const std::string round = num::round_name(fmt.round);
+  const std::string fname = Format{fmt.exp_bits, fmt.frac_bits, true, fmt.round}.name();
+  for (const auto& r : rows) {
+    const auto& j = r.row;
+    if (j.value("unit", "") != unit || j.value("flow", "") != library) continue;
+    if (!j.contains("format") || !j["format"].is_string() || j["format"].get<std::string>() != fname) continue;
+    if (j.value("subnormals", true) != fmt.subnormals || j.value("round", "rne") != round) continue;
+    if (!j.contains("period_ps") || !j["period_ps"].is_number() || !j.contains("area_um2")) continue;
+    if (j.value("rtl_hash", "") != hash) {
+      ++p.stale;
+      continue;
+    }
+    const double per = j["period_ps"].get<double>(), area = j["area_um2"].get<double>();
+    std::string point = j.contains("point") && j["point"].is_string() ? j["point"].get<std::string>()
+                                                                        : r.file + ":" + std::to_string(r.line);
+    if (per < p.fastest) p.fastest = per, p.fastest_point = point, p.fastest_row = UnitChoice{unit, j.value("stages", 0), area, per, point};
+    if (per > period_ps) continue;
+    if (!p.found || area < p.best.area_um2) p.best = UnitChoice{unit, j.value("stages", 0), area, per, point}, p.found = true;
+  }
+  return p;
+}
+
+}  // namespace
+
+CostModel CostModel::build(const std::vector<std::string>& row_paths, const synth::CellLibrary& lib,
+                           const Format& fmt, double period_ps, const std::string& measure_file,
+                           const std::function<void(const std::string&)>& progress) {
+  CostModel m;
+  m.fmt_ = fmt;
+  m.period_ps_ = period_ps;
+  m.ff_um2 = lib_area(lib, lib.flop_cell);
+  m.mux_um2 = lib_area(lib, "MUX2X1");
+  m.gate_um2 = lib_area(lib, "AND2X2");
+  std::vector<std::string> paths = row_paths;
+  if (!measure_file.empty() && fs::exists(measure_file)) paths.push_back(measure_file);
+  std::vector<synth::CheckedInRow> rows = synth::CheckedInRows::load(paths).rows();
+  for (const auto& [kind, unit] : kind_units()) {
+    (void)kind;
+    const synth::UnitSpec& spec = synth::find_unit(unit);
+    const std::string hash = synth::sources_hash(synth::resolve_sources(spec, synth::default_rtl_dir()));
+    Pick p = pick_row(rows, unit, lib.name, fmt, period_ps, hash);
+    if (!p.found && !measure_file.empty()) {
+      // Characterize: Stages upward from an estimate until one meets the clock, then one more.
+      synth::FlowOptions fo;
+      fo.flow = lib.name;
+      // ABC maps for its own delay model: besides the clock itself, two tighter targets, so that
+      // a unit close to its limit gets the mapping that meets the STA clock if one does
+      fo.clocks_ps = {period_ps, 0.85 * period_ps, 0.7 * period_ps};
+      fo.ice40 = fo.xilinx = false;
+      synth::UnitConfig c;
+      c.fmt = fmt;
+      const int smax = spec.max_stages(c);
+      int s = 0, met_at = -1;
+      std::ofstream out(measure_file, std::ios::app);
+      while (s <= smax && (met_at < 0 || s <= met_at + 1)) {
+        c.stages = s;
+        const synth::SynthResult r = synth::run_synth(spec, c, fo);
+        for (nlohmann::json j : synth::to_json_rows(r)) {
+          j["point"] = "search:" + unit + "_" + fmt.name() + "_s" + std::to_string(s);
+          j["command"] = "rayunits synth " + synth::config_args(spec, c) + " --flow " + lib.name + " --clock " +
+                         std::to_string(static_cast<long>(period_ps)) + "ps";
+          out << j.dump() << "\n";
+          rows.push_back(synth::CheckedInRow{j, measure_file, 0, j["command"], ""});
+        }
+        out.flush();
+        if (!out) throw synth::SynthError("cannot append to " + measure_file);
+        double per = INFINITY, area = 0;
+        for (const auto& run : r.cell.runs)
+          if (run.achieved_ps < per) per = run.achieved_ps, area = run.area.total;
+        if (progress)
+          progress("characterized " + unit + " " + fmt.name() + " Stages " + std::to_string(s) + ": fastest " +
+                   std::to_string(static_cast<long>(per)) + " ps (" + std::to_string(static_cast<long>(area)) +
+                   " um2) of " + std::to_string(r.cell.runs.size()) + " ABC targets");
+        if (per <= period_ps && met_at < 0) met_at = s;
+        // from Stages 0, jump to the estimate period0 / period_ps - 1 stages
+        s = s == 0 && met_at < 0 ? std::max(1, static_cast<int>(std::ceil(per / period_ps)) - 1) : s + 1;
+      }
+      p = pick_row(rows, unit, lib.name, fmt, period_ps, hash);
+    }
+    if (!p.found && p.fastest_row.unit == unit) {
+      // No configuration meets the clock: the fastest one, and the designs using it run slower
+      if (progress)
+        progress("cost model: no " + unit + " " + fmt.name() + " configuration meets " +
+                 std::to_string(static_cast<long>(period_ps)) + " ps; using the fastest, Stages " +
+                 std::to_string(p.fastest_row.stages) + " at " + std::to_string(static_cast<long>(p.fastest)) +
+                 " ps (designs with it: clock <= " + std::to_string(static_cast<long>(1e6 / p.fastest)) + " MHz)");
+      p.best = p.fastest_row;
+      p.found = true;
+    }
+    if (!p.found)
+      throw synth::SynthError(
+          "cost model: no current " + lib.name + " row of " + unit + " " + fmt.name() + " (" +
+          num::round_name(fmt.round) + ") meets " + std::to_string(static_cast<long>(period_ps)) + " ps" +
+          (std::isfinite(p.fastest) ? " (the fastest is " + std::to_string(static_cast<long>(p.fastest)) + " ps, " +
+                                          p.fastest_point + ")"
+                                    : " (none at all)") +
+          (p.stale ? "; " + std::to_string(p.stale) + " rows are stale (rtl_hash differs)" : "") +
+          (measure_file.empty() ? "; let the search characterize the units (--characterize)" : ""));
+    m.units_[unit] = p.best;
+  }
+  return m;
+}
+
+CostBreakdown CostModel::cost(const Graph& g) const {
+  CostBreakdown c;
+  c.ops = g.op_counts();
+  const auto& ns = g.nodes();
+  const int W = 1 + fmt_.exp_bits + fmt_.frac_bits;
+  std::vector<int> ready(ns.size(), 0), start(ns.size(), 0), hold(ns.size(), 0);
+  for (size_t i = 0; i < ns.size(); ++i) {
+    const Node& n = ns[i];
+    int s = 0;
+    for (const int o : {n.a, n.b, n.c})
+      if (o >= 0) s = std::max(s, ready[o]);
+    start[i] = s;
+    const std::string unit = unit_of(n.op);
+    if (!unit.empty()) {
+      const auto it = units_.find(unit);
+      if (it == units_.end()) throw IrError("cost model: no " + unit + " in the model (" + op_name(n.op) + ")");
+      ready[i] = s + it->second.stages + 1;
+      c.units_um2 += it->second.area_um2;
+      c.period_ps = std::max(c.period_ps, it->second.period_ps);
+      c.reg_bits += op_is_bool(n.op) ? 1 : W;  // the output register
+    } else {
+      ready[i] = s;
+      if (n.op == Op::Select) c.mux_um2 += W * mux_um2;
+      else if (op_is_bool(n.op) && n.op != Op::BConst) c.gate_um2 += gate_um2;
+    }
+    for (const int o : {n.a, n.b, n.c})
+      if (o >= 0) hold[o] = std::max(hold[o], s - ready[o]);
+  }
+  for (const auto& [name, n] : g.outputs()) c.latency = std::max(c.latency, ready[n]);
+  for (const auto& [name, n] : g.outputs()) hold[n] = std::max(hold[n], c.latency - ready[n]);
+  for (size_t i = 0; i < ns.size(); ++i)
+    if (ns[i].op != Op::Const && ns[i].op != Op::BConst)
+      c.reg_bits += static_cast<long>(hold[i]) * (op_is_bool(ns[i].op) ? 1 : W);
+  c.reg_um2 = static_cast<double>(c.reg_bits) * ff_um2;
+  c.area_um2 = c.units_um2 + c.reg_um2 + c.mux_um2 + c.gate_um2;
+  return c;
+}
+
+nlohmann::json CostModel::to_json() const {
+  nlohmann::json u = nlohmann::json::object();
+  for (const auto& [name, ch] : units_)
+    u[name] = {{"stages", ch.stages}, {"area_um2", ch.area_um2}, {"period_ps", ch.period_ps}, {"point", ch.point}};
+  return {{"format", fmt_.name()},      {"period_ps", period_ps_}, {"units", u},
+          {"ff_um2", ff_um2},           {"mux_um2", mux_um2},       {"gate_um2", gate_um2},
+          {"kind", "estimate: characterized FP-unit rows + registers, muxes and gates from the liberty"}};
+}
+
+// ---- workload and fitness --------------------------------------------------------------------
+
+Workload make_workload(const std::vector<units::TriRecord>& recs, const Format& fmt, units::Mesh mesh,
+                       size_t mesh_rays, uint64_t seed) {
+  Workload w;
+  w.fmt = fmt;
+  w.mesh = std::move(mesh);
+  w.mesh_rays = mesh_rays;
+  w.seed = seed;
+  const Format in_fmt{fmt.exp_bits, fmt.frac_bits, fmt.subnormals, num::Round::RNE};
+  std::string h = fmt.name() + "|" + std::to_string(mesh_rays) + "|" + std::to_string(seed) + "|" + w.mesh.name + "|" +
+                  std::to_string(w.mesh.verts.size()) + "|" + std::to_string(w.mesh.tris.size()) + "|";
+  uint64_t hv = util::fnv1a64(h);
+  for (const auto& v : w.mesh.verts) hv = util::fnv1a64(std::string_view(reinterpret_cast<const char*>(&v), sizeof v), hv);
+  for (const auto& r : recs) {
+    const std::vector<double> x = tri_inputs(r);
+    std::array<double, 17> in{};
+    bool finite = true;
+    for (int k = 0; k < 17; ++k) {
+      in[k] = num::to_double(in_fmt, num::from_double(in_fmt, x[k]).bits);
+      if (k < 15 && !std::isfinite(in[k])) finite = false;
+      if (k >= 15 && std::isnan(in[k])) finite = false;
+    }
+    if (!finite) {
+      ++w.skipped;
+      continue;
+    }
+    const auto V = [&](int k) { return units::Vec3d{in[k], in[k + 1], in[k + 2]}; };
+    const units::ExactTriHit e = units::exact_tri(V(0), V(3), V(6), V(9), V(12), in[15], in[16]);
+    w.in.push_back(in);
+    w.exact_hit.push_back(e.hit);
+    w.exact_tbg.push_back(e.hit ? std::array<mpq_class, 3>{e.t, e.beta, e.gamma} : std::array<mpq_class, 3>{});
+    hv = util::fnv1a64(std::string_view(reinterpret_cast<const char*>(in.data()), sizeof in), hv);
+  }
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(hv));
+  w.hash = buf;
+  return w;
+}
+
+std::array<double, 4> Fitness::objectives() const {
+  return {cost.area_um2, mean_rel, max_rel, static_cast<double>(failures())};
+}
+
+nlohmann::json to_json(const Fitness& f) {
+  return {{"area_um2", f.cost.area_um2},
+          {"units_um2", f.cost.units_um2},
+          {"reg_um2", f.cost.reg_um2},
+          {"mux_um2", f.cost.mux_um2},
+          {"gate_um2", f.cost.gate_um2},
+          {"reg_bits", f.cost.reg_bits},
+          {"latency", f.cost.latency},
+          {"period_ps", f.cost.period_ps},
+          {"ops", f.cost.ops},
+          {"mean_rel", f.mean_rel},
+          {"max_rel", f.max_rel},
+          {"mean_rel_tbg", f.mean_tbg},
+          {"max_rel_tbg", f.max_tbg},
+          {"nan", f.nan},
+          {"wrong_hits", f.wrong_hits},
+          {"leaks", f.leaks},
+          {"double_hits", f.double_hits},
+          {"failures", f.failures()}};
+}
+
+Fitness fitness_from_json(const nlohmann::json& j) {
+  Fitness f;
+  f.cost.area_um2 = j.at("area_um2");
+  f.cost.units_um2 = j.at("units_um2");
+  f.cost.reg_um2 = j.at("reg_um2");
+  f.cost.mux_um2 = j.at("mux_um2");
+  f.cost.gate_um2 = j.at("gate_um2");
+  f.cost.reg_bits = j.at("reg_bits");
+  f.cost.latency = j.at("latency");
+  f.cost.period_ps = j.at("period_ps");
+  f.cost.ops = j.at("ops").get<std::map<std::string, int>>();
+  f.mean_rel = j.at("mean_rel");
+  f.max_rel = j.at("max_rel");
+  f.mean_tbg = j.at("mean_rel_tbg");
+  f.max_tbg = j.at("max_rel_tbg");
+  f.nan = j.at("nan");
+  f.wrong_hits = j.at("wrong_hits");
+  f.leaks = j.at("leaks");
+  f.double_hits = j.at("double_hits");
+  return f;
+}
+
+Fitness evaluate_fitness(const Graph& g, const Workload& w, const CostModel& cm) {
+  Fitness f;
+  f.cost = cm.cost(g);
+  num::SoftScope scope(w.fmt);
+  const int hit_n = g.output_node("hit");
+  const int out_n[3] = {g.output_node("t"), g.output_node("beta"), g.output_node("gamma")};
+  const double big = num::to_double(w.fmt, w.fmt.max_finite(false));
+  std::vector<Soft> x(17);
+  double sum[3] = {0, 0, 0};
+  uint64_t cnt[3] = {0, 0, 0};
+  mpq_class diff;
+  for (size_t r = 0; r < w.in.size(); ++r) {
+    for (int k = 0; k < 17; ++k) x[k] = Soft::from_double(w.in[r][k]);
+    const auto v = evaluate<Soft>(g, x);
+    const bool hit = v[hit_n].b;
+    f.wrong_hits += hit != static_cast<bool>(w.exact_hit[r]);
+    if (!w.exact_hit[r]) continue;
+    for (int k = 0; k < 3; ++k) {
+      const mpq_class& ex = w.exact_tbg[r][k];
+      if (sgn(ex) == 0) continue;  // a ray through an edge: no relative error
+      double y = v[out_n[k]].v.to_double();
+      double rel;
+      if (std::isnan(y)) {
+        ++f.nan;
+        rel = 1.0;
+      } else {
+        if (std::isinf(y)) y = std::copysign(big, y);
+        diff = mpq_class(y) - ex;
+        diff /= ex;
+        rel = std::fabs(diff.get_d());
+      }
+      sum[k] += rel;
+      ++cnt[k];
+      f.max_tbg[k] = std::max(f.max_tbg[k], rel);
+    }
+  }
+  for (int k = 0; k < 3; ++k) {
+    f.mean_tbg[k] = cnt[k] ? sum[k] / static_cast<double>(cnt[k]) : 0.0;
+    f.mean_rel = std::max(f.mean_rel, f.mean_tbg[k]);
+    f.max_rel = std::max(f.max_rel, f.max_tbg[k]);
+  }
+  if (w.mesh_rays > 0) {
+    units::WatertightOptions o;
+    o.fmt = w.fmt;
+    o.rays = w.mesh_rays;
+    o.near_vertex_rays = w.mesh_rays / 2;
+    o.seed = w.seed;
+    o.threads = 1;
+    o.unit = [&g, hit_n](const units::WatertightOptions::Vs& a, const units::WatertightOptions::Vs& d,
+                         const units::WatertightOptions::Vs& p0, const units::WatertightOptions::Vs& p1,
+                         const units::WatertightOptions::Vs& p2, Soft tmin, Soft tmax) {
+      const std::vector<Soft> in = {a.x,  a.y,  a.z,  d.x,  d.y,  d.z,  p0.x, p0.y, p0.z,
+                                    p1.x, p1.y, p1.z, p2.x, p2.y, p2.z, tmin, tmax};
+      return evaluate<Soft>(g, in)[hit_n].b;
+    };
+    const units::WatertightCounts t = units::run_watertight(w.mesh, o).total();
+    f.leaks = t.leaks;
+    f.double_hits = t.double_hits;
+  }
+  return f;
+}
+
+// ---- the search ------------------------------------------------------------------------------
+
+std::vector<Candidate> pareto_front(const std::vector<Candidate>& all) {
+  std::vector<Candidate> u;
+  std::set<std::string> seen;
+  for (const auto& c : all)
+    if (seen.insert(c.key).second) u.push_back(c);
+  auto dominates = [](const Candidate& a, const Candidate& b) {
+    const auto x = a.fit.objectives(), y = b.fit.objectives();
+    bool better = false;
+    for (int k = 0; k < 4; ++k) {
+      if (x[k] > y[k]) return false;
+      better |= x[k] < y[k];
+    }
+    return better;
+  };
+  std::vector<Candidate> front;
+  for (const auto& c : u) {
+    bool dom = false;
+    for (const auto& d : u)
+      if (dominates(d, c)) {
+        dom = true;
+        break;
+      }
+    if (!dom) front.push_back(c);
+  }
+  std::sort(front.begin(), front.end(), [](const Candidate& a, const Candidate& b) {
+    if (a.fit.cost.area_um2 != b.fit.cost.area_um2) return a.fit.cost.area_um2 < b.fit.cost.area_um2;
+    return genome_name(a.genome) < genome_name(b.genome);
+  });
+  return front;
+}
+
+namespace {
+
+// Evaluations, cached by content (graph text + workload + cost model), appended to
+// evaluations.jsonl in the order the search asked for them.
+struct Evaluator {
+  const Workload* w = nullptr;
+  const CostModel* cm = nullptr;
+  std::string context_hash;
+  int threads = 1;
+  std::string log_path;
+  std::mutex mu;
+  std::map<std::string, Candidate> cache;
+  std::vector<std::string> order;  // keys in evaluation order
+  size_t evaluations = 0, hits = 0;
+
+  std::string key_of(const Graph& g) const { return util::fnv1a64_hex(g.print() + "|" + context_hash); }
+
+  void load(const std::string& path) {
+    std::ifstream in(path);
+    std::string line;
+    int n = 0;
+    while (std::getline(in, line)) {
+      ++n;
+      if (line.empty()) continue;
+      nlohmann::json j;
+      try {
+        j = nlohmann::json::parse(line);
+        Candidate c;
+        c.genome = parse_genome_name(j.at("genome"));
+        c.key = j.at("key");
+        c.fit = fitness_from_json(j.at("fitness"));
+        if (j.at("context") != context_hash) continue;  // another workload or cost model
+        if (!cache.count(c.key)) order.push_back(c.key);
+        cache[c.key] = c;
+      } catch (const std::exception& e) {
+        throw IrError(path + ":" + std::to_string(n) + ": not an evaluation record (" + e.what() + ")");
+      }
+    }
+  }
+
+  std::vector<Candidate> run(const std::vector<TriGenome>& gs) {
+    std::vector<Candidate> out(gs.size());
+    std::vector<Graph> graphs;
+    std::vector<size_t> todo;
+    std::set<std::string> todo_keys;
+    for (size_t i = 0; i < gs.size(); ++i) {
+      out[i].genome = canonical(gs[i]);
+      graphs.push_back(tri_graph(out[i].genome));
+      out[i].key = key_of(graphs.back());
+      if (cache.count(out[i].key)) {
+        ++hits;
+      } else if (todo_keys.insert(out[i].key).second) {
+        todo.push_back(i);
+      }
+    }
+    std::vector<Fitness> fits(todo.size());
+    util::parallel_for(todo.size(), threads,
+                       [&](size_t k) { fits[k] = evaluate_fitness(graphs[todo[k]], *w, *cm); });
+    std::ofstream log(log_path, std::ios::app);
+    for (size_t k = 0; k < todo.size(); ++k) {
+      Candidate c = out[todo[k]];
+      c.fit = fits[k];
+      cache[c.key] = c;
+      order.push_back(c.key);
+      ++evaluations;
+      log << nlohmann::json{{"key", c.key},
+                            {"genome", genome_name(c.genome)},
+                            {"genes", to_vector(c.genome)},
+                            {"context", context_hash},
+                            {"fitness", to_json(c.fit)}}
+                 .dump()
+          << "\n";
+    }
+    if (!log) throw IrError("cannot append to " + log_path);
+    for (auto& c : out) c.fit = cache.at(c.key).fit;
+    return out;
+  }
+};
+
+std::vector<double> objectives_of(const Fitness& f) {
+  const auto o = f.objectives();
+  return {o.begin(), o.end()};
+}
+
+// pagmo's problem: the genome as integers; fitness from the shared evaluator.
+struct TriProblem {
+  std::shared_ptr<Evaluator> ev;
+  pagmo::vector_double fitness(const pagmo::vector_double& x) const {
+    return objectives_of(ev->run({decode(x)})[0].fit);
+  }
+  std::pair<pagmo::vector_double, pagmo::vector_double> get_bounds() const {
+    pagmo::vector_double lo(kTriGenes, 0.0), hi(kTriGenes);
+    for (int i = 0; i < kTriGenes; ++i) hi[i] = kTriGeneCount[i] - 1;
+    return {lo, hi};
+  }
+  pagmo::vector_double::size_type get_nobj() const { return 4; }
+  pagmo::vector_double::size_type get_nix() const { return kTriGenes; }
+  std::string get_name() const { return "rayunits ray-triangle formulations"; }
+  static TriGenome decode(const pagmo::vector_double& x) {
+    std::vector<int> v(kTriGenes);
+    for (int i = 0; i < kTriGenes; ++i) v[i] = static_cast<int>(std::lround(x[i]));
+    return tri_genome(v);
+  }
+};
+
+// pagmo's batch evaluator: a generation's offspring evaluated together, in parallel, through the cache.
+struct TriBatch {
+  pagmo::vector_double operator()(const pagmo::problem& p, const pagmo::vector_double& dvs) const {
+    const auto* tp = p.extract<TriProblem>();
+    if (!tp) throw IrError("TriBatch: not a TriProblem");
+    std::vector<TriGenome> gs;
+    for (size_t i = 0; i < dvs.size(); i += kTriGenes)
+      gs.push_back(TriProblem::decode(pagmo::vector_double(dvs.begin() + i, dvs.begin() + i + kTriGenes)));
+    pagmo::vector_double f;
+    for (const auto& c : tp->ev->run(gs)) {
+      const auto o = objectives_of(c.fit);
+      f.insert(f.end(), o.begin(), o.end());
+    }
+    return f;
+  }
+  std::string get_name() const { return "rayunits cached parallel evaluator"; }
+};
+
+void write_atomic(const fs::path& p, const std::string& text) {
+  const fs::path tmp = p.string() + ".tmp";
+  {
+    std::ofstream o(tmp);
+    o << text;
+    if (!o) throw IrError("cannot write " + tmp.string());
+  }
+  fs::rename(tmp, p);
+}
+
+// One mutation of a genome: each gene redrawn with probability 1/3 (at least one changes).
+TriGenome mutate(const TriGenome& g, util::Xoshiro256ss& rng) {
+  std::vector<int> v = to_vector(g);
+  const std::string before = genome_name(g);
+  for (int tries = 0; tries < 64; ++tries) {
+    for (int i = 0; i < kTriGenes; ++i)
+      if (util::bounded_lemire(rng, 3) == 0) v[i] = static_cast<int>(util::bounded_lemire(rng, kTriGeneCount[i]));
+    if (genome_name(tri_genome(v)) != before) break;
+  }
+  return tri_genome(v);
+}
+
+}  // namespace
+
+SearchResult run_search(const SearchOptions& opt, const Workload& w, const CostModel& cm,
+                        const nlohmann::json& context) {
+  if (opt.population < 8 || opt.population % 4 != 0)
+    throw IrError("--population must be a multiple of 4 and at least 8, got " + std::to_string(opt.population));
+  if (opt.generations < 0) throw IrError("generations must be >= 0");
+  const fs::path dir = opt.out_dir;
+  fs::create_directories(dir);
+  auto say = [&](const std::string& s) {
+    if (opt.progress) opt.progress(s);
+  };
+  const std::string context_hash = util::fnv1a64_hex(context.dump());
+  const nlohmann::json settings = {{"context", context},
+                                   {"context_hash", context_hash},
+                                   {"start", genome_name(opt.start)},
+                                   {"population", opt.population},
+                                   {"seed", opt.seed}};
+  // state.json: the settings, the generation reached and its population.
+  const fs::path state_path = dir / "state.json";
+  auto ev = std::make_shared<Evaluator>();
+  ev->w = &w;
+  ev->cm = &cm;
+  ev->context_hash = context_hash;
+  ev->threads = opt.threads;
+  ev->log_path = (dir / "evaluations.jsonl").string();
+  if (fs::exists(ev->log_path)) ev->load(ev->log_path);
+
+  pagmo::problem prob{TriProblem{ev}};
+  pagmo::population pop{prob, 0u, static_cast<unsigned>(opt.seed)};
+  int gen = 0;
+  SearchResult res;
+  if (fs::exists(state_path)) {
+    std::ifstream in(state_path);
+    nlohmann::json st;
+    try {
+      st = nlohmann::json::parse(in);
+    } catch (const std::exception& e) {
+      throw IrError(state_path.string() + ": not a search state (" + e.what() + ")");
+    }
+    if (st.value("settings", nlohmann::json()) != settings)
+      throw IrError(state_path.string() +
+                    ": a search with other settings (format, clock, workload, start, population or seed) is in this "
+                    "directory; use another --out or delete it");
+    gen = st.at("generation");
+    std::vector<TriGenome> gs;
+    for (const auto& v : st.at("population")) gs.push_back(tri_genome(v.get<std::vector<int>>()));
+    const auto cs = ev->run(gs);  // from the cache
+    for (const auto& c : cs) {
+      const auto g = to_vector(c.genome);
+      pop.push_back(pagmo::vector_double(g.begin(), g.end()), objectives_of(c.fit));
+    }
+    say("resumed at generation " + std::to_string(gen) + " from " + state_path.string());
+  } else {
+    // Generation 0: the start formulation and mutations of it.
+    util::Xoshiro256ss rng(opt.seed);
+    std::vector<TriGenome> gs = {opt.start};
+    while (static_cast<int>(gs.size()) < opt.population) gs.push_back(mutate(opt.start, rng));
+    const auto cs = ev->run(gs);
+    for (size_t i = 0; i < cs.size(); ++i) {
+      const auto g = to_vector(gs[i]);
+      pop.push_back(pagmo::vector_double(g.begin(), g.end()), objectives_of(cs[i].fit));
+    }
+  }
+  auto save = [&] {
+    nlohmann::json popj = nlohmann::json::array();
+    for (const auto& x : pop.get_x()) popj.push_back(to_vector(TriProblem::decode(x)));
+    write_atomic(state_path, nlohmann::json{{"settings", settings}, {"generation", gen}, {"population", popj}}.dump(1));
+  };
+  save();
+  while (gen < opt.generations) {
+    // One generation per call, seeded by (seed, generation): a resumed run continues exactly.
+    uint64_t sm = opt.seed ^ (0x9e3779b97f4a7c15ull * static_cast<uint64_t>(gen + 1));
+    const unsigned gseed = static_cast<unsigned>(util::splitmix64(sm));
+    pagmo::nsga2 algo(1u, 0.9, 10., 1.0 / kTriGenes, 10., gseed);
+    algo.set_bfe(pagmo::bfe{TriBatch{}});
+    pop = algo.evolve(pop);
+    ++gen;
+    ++res.generations_run;
+    save();
+    std::vector<Candidate> all;
+    for (const auto& k : ev->order) all.push_back(ev->cache.at(k));
+    const auto front = pareto_front(all);
+    say("generation " + std::to_string(gen) + "/" + std::to_string(opt.generations) + ": " +
+        std::to_string(ev->cache.size()) + " designs evaluated, front " + std::to_string(front.size()));
+  }
+  // The front of every design this search evaluated (not only the last population).
+  std::vector<Candidate> all;
+  for (const auto& k : ev->order) all.push_back(ev->cache.at(k));
+  res.front = pareto_front(all);
+  res.evaluations = ev->evaluations;
+  res.cache_hits = ev->hits;
+  return res;
+}
+
+}  // namespace ru::dp

@@ -1,0 +1,272 @@
+// Tests of the formulation search (rayunits/dp/search.hpp, issue 18 §2): every genome is the same
+// exact function as the exact reference (the moves are equivalences; a planted wrong operation is
+// caught), genome names, the cost model's row choice and schedule on planted rows, determinism
+// (threads, resume) and the sanity check: from a deliberately worse start the search finds a design
+// within 5 % of Fig. 3.6's area at no more error (and the check fails on the start population).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "rayunits/dp/formulas.hpp"
+#include "rayunits/dp/search.hpp"
+#include "rayunits/synth/units.hpp"
+#include "rayunits/units/exact.hpp"
+#include "rayunits/units/synthetic.hpp"
+
+namespace {
+
+using namespace ru::dp;
+using ru::num::Format;
+namespace fs = std::filesystem;
+
+std::vector<ru::units::TriRecord> records(uint64_t seed, size_t n) {
+  ru::units::SynthTriOptions o;
+  o.seed = seed;
+  o.rays_per_packet = 4;
+  o.triangles = (n + 3) / 4;
+  auto r = ru::units::synth_tri(o);
+  r.resize(n);
+  for (auto& x : r)
+    if (!std::isfinite(x.t_max)) x.t_max = 1e6;  // the exact evaluator needs finite inputs
+  return r;
+}
+
+// Outputs of g's exact evaluation that differ from units::exact_tri on the record's inputs
+// (V, Va, V0 (if any), V1, V2, t, beta, gamma and the hit decision).
+int exact_mismatches(const Graph& g, const std::vector<ru::units::TriRecord>& recs) {
+  int bad = 0;
+  for (const auto& r : recs) {
+    const auto in = tri_inputs(r);
+    const ExactValues x = evaluate_exact(g, in);
+    const auto e = ru::units::exact_tri(r.a, r.d, r.p0, r.p1, r.p2, r.t_min, r.t_max);
+    auto q = [&](const char* name) { return x.q[g.output_node(name)]; };
+    bad += q("V") != e.vol.V;
+    bad += q("Va") != e.vol.Va;
+    bad += q("V1") != e.vol.V1;
+    bad += q("V2") != e.vol.V2;
+    bool has_v0 = false;
+    for (const auto& [n, node] : g.outputs()) has_v0 |= n == "V0";
+    if (has_v0) bad += q("V0") != e.vol.V0;
+    if (e.has_t) bad += q("t") != e.t || q("beta") != e.beta || q("gamma") != e.gamma;
+    bad += x.b[g.output_node("hit")] != e.hit;
+  }
+  return bad;
+}
+
+std::vector<TriGenome> all_canonical_genomes() {
+  std::vector<TriGenome> out;
+  std::set<std::string> seen;
+  std::vector<int> v(kTriGenes, 0);
+  for (;;) {
+    const TriGenome g = canonical(tri_genome(v));
+    if (seen.insert(genome_name(g)).second) out.push_back(g);
+    int i = 0;
+    while (i < kTriGenes && ++v[i] == kTriGeneCount[i]) v[i++] = 0;
+    if (i == kTriGenes) break;
+  }
+  return out;
+}
+
+TEST(SearchGenome, EveryGenomeIsTheExactReferenceFunction) {
+  const auto gs = all_canonical_genomes();
+  EXPECT_EQ(gs.size(), 10u * 4 * 4 * 2 * 2 * 2 * 3 + 2 * 2 * 3);  // form x origin (form 3: none), denom, va, ...
+  const auto recs = records(5, 2);
+  for (const auto& g : gs) ASSERT_EQ(exact_mismatches(tri_graph(g), recs), 0) << genome_name(g);
+}
+
+TEST(SearchGenome, PlantedWrongOperationIsCaught) {
+  // The checker above must see one changed operation: the last `sub` of the text form made an `add`.
+  const std::string text = tri_graph(start_genome("sv-f3-o0-d3-a3-q1-i1-t0-p2")).print();
+  const size_t at = text.find("sub ", text.size() / 3);
+  ASSERT_NE(at, std::string::npos);
+  std::string planted = text;
+  planted.replace(at, 3, "add");
+  EXPECT_GT(exact_mismatches(Graph::parse(planted), records(5, 8)), 0);
+}
+
+TEST(SearchGenome, NamesRoundTripAndBadNamesAreOneLineErrors) {
+  for (const auto& g : all_canonical_genomes()) ASSERT_EQ(genome_name(parse_genome_name(genome_name(g))), genome_name(g));
+  EXPECT_EQ(genome_name(fig36_genome()), "sv-f0-o0-d0-a0-q0-i0-t0-p0");
+  EXPECT_EQ(genome_name(mt_genome()), "mt-q1-i0-p0");
+  for (const char* bad : {"", "sv", "sv-f4-o0-d0-a0-q0-i0-t0-p0", "mt-q1-i0", "xx-q1-i0-p0", "sv-f0-o0-d0-a0-q0-i0-t0-p0-"}) {
+    try {
+      parse_genome_name(bad);
+      ADD_FAILURE() << "accepted '" << bad << "'";
+    } catch (const IrError& e) {
+      const std::string m = e.what();
+      EXPECT_EQ(m.find('\n'), std::string::npos);
+      EXPECT_NE(m.find("accepted"), std::string::npos) << m;
+    }
+  }
+  EXPECT_THROW(start_genome("best"), IrError);
+}
+
+// Planted rows: each unit with a current rtl_hash, plus a stale row that would be the smallest.
+struct Rows {
+  fs::path dir;
+  explicit Rows(const std::string& name) : dir(fs::temp_directory_path() / ("ru-search-test-" + name)) {
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+  }
+  ~Rows() { fs::remove_all(dir); }
+  void add(const std::string& unit, int stages, double period, double area, bool current = true) {
+    const auto& spec = ru::synth::find_unit(unit);
+    const std::string hash =
+        current ? ru::synth::sources_hash(ru::synth::resolve_sources(spec, ru::synth::default_rtl_dir())) : "0000";
+    nlohmann::json j = {{"unit", unit},       {"top", "ru_" + unit},       {"flow", "osu018"},
+                        {"stages", stages},   {"rtl_hash", hash},          {"format", "e7m16"},
+                        {"round", "rne"},     {"subnormals", true},        {"period_ps", period},
+                        {"area_um2", area},   {"fmax_mhz", 1e6 / period},  {"target_clock_ps", period},
+                        {"point", unit + "_s" + std::to_string(stages)}};
+    std::ofstream(dir / "rows.jsonl", std::ios::app) << j.dump() << "\n";
+  }
+};
+
+TEST(SearchCost, PicksTheSmallestCurrentRowMeetingTheClockAndSchedules) {
+  Rows r("cost");
+  r.add("fp_add", 1, 3000, 100);
+  r.add("fp_add", 2, 1900, 120);
+  r.add("fp_add", 3, 1500, 50, false);  // stale: never picked
+  r.add("fp_mul", 2, 2000, 400);
+  r.add("fp_mul", 4, 1000, 500);
+  r.add("fp_div", 5, 2500, 900);  // nothing meets 2000 ps: the fastest is used
+  r.add("fp_div", 3, 3500, 700);
+  r.add("fp_cmp", 0, 800, 10);
+  const auto& lib = ru::synth::cell_library("osu018");
+  const Format f = Format::parse("e7m16");
+  const CostModel m = CostModel::build({r.dir.string()}, lib, f, 2000);
+  EXPECT_EQ(m.units().at("fp_add").stages, 2);
+  EXPECT_EQ(m.units().at("fp_mul").stages, 2);
+  EXPECT_EQ(m.units().at("fp_div").stages, 5);
+  EXPECT_EQ(m.units().at("fp_cmp").stages, 0);
+  // x*y + z: the mul (2 stages + its output register) is ready at cycle 3, the add (2 stages) at 6
+  const Graph g = Graph::parse("in x\nin y\nin z\nmul 0 1\nadd 3 2\nout f 4\n");
+  const CostBreakdown c = m.cost(g);
+  const int W = 24;
+  EXPECT_EQ(c.latency, 3 + 3);
+  // registers: the two unit outputs, and z held from cycle 0 to the add's start at cycle 3
+  EXPECT_EQ(c.reg_bits, 2 * W + 3 * W);
+  EXPECT_DOUBLE_EQ(c.units_um2, 400 + 120);
+  EXPECT_DOUBLE_EQ(c.area_um2, 520 + c.reg_bits * lib.area.at(lib.flop_cell));
+  EXPECT_DOUBLE_EQ(c.period_ps, 2000);  // the slower of the two units
+  // a division: the fastest fp_div (2500 ps) sets the design's period
+  EXPECT_DOUBLE_EQ(m.cost(Graph::parse("in x\nin y\ndiv 0 1\nout q 2\n")).period_ps, 2500);
+}
+
+TEST(SearchCost, NoRowOfAUnitIsAOneLineError) {
+  Rows r("none");
+  r.add("fp_add", 1, 3000, 100);
+  r.add("fp_mul", 1, 3000, 100, false);  // only stale
+  try {
+    CostModel::build({r.dir.string()}, ru::synth::cell_library("osu018"), Format::parse("e7m16"), 2000);
+    FAIL() << "no error";
+  } catch (const ru::synth::SynthError& e) {
+    const std::string m = e.what();
+    EXPECT_EQ(m.find('\n'), std::string::npos);
+    EXPECT_NE(m.find("no current osu018 row of fp_"), std::string::npos) << m;
+  }
+}
+
+// A small cost model with realistic unit proportions (planted rows, areas of osu018 e7m16 units
+// in the ratio the cell flow measures them: add 55, mul 102, div 217, cmp 6 thousand um2).
+struct Fixture {
+  Rows rows{"search"};
+  CostModel cm;
+  Workload w;
+  Fixture() {
+    rows.add("fp_add", 4, 3900, 54792);
+    rows.add("fp_mul", 4, 3800, 101980);
+    rows.add("fp_div", 21, 3980, 217448);
+    rows.add("fp_cmp", 0, 2490, 6335);
+    const Format f = Format::parse("e7m16");
+    cm = CostModel::build({rows.dir.string()}, ru::synth::cell_library("osu018"), f, 4000);
+    w = make_workload(records(3, 384), f, ru::units::builtin_mesh("icosphere"), 120, 3);
+  }
+};
+
+std::vector<std::string> front_names(const SearchResult& r) {
+  std::vector<std::string> v;
+  for (const auto& c : r.front) v.push_back(genome_name(c.genome) + "@" + c.key);
+  return v;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+TEST(Search, SameSeedSameFrontWhateverTheThreadsOrAResume) {
+  Fixture fx;
+  const fs::path base = fs::temp_directory_path() / "ru-search-det";
+  fs::remove_all(base);
+  const nlohmann::json ctx = {{"test", 1}};
+  SearchOptions o;
+  o.start = start_genome("worst");
+  o.population = 8;
+  o.seed = 11;
+  o.generations = 3;
+  o.threads = 1;
+  o.out_dir = (base / "a").string();
+  const SearchResult a = run_search(o, fx.w, fx.cm, ctx);
+  o.threads = 2;
+  o.out_dir = (base / "b").string();
+  o.generations = 1;
+  run_search(o, fx.w, fx.cm, ctx);
+  o.generations = 3;  // resumed: continues from generation 1
+  const SearchResult b = run_search(o, fx.w, fx.cm, ctx);
+  EXPECT_EQ(b.generations_run, 2);
+  EXPECT_EQ(front_names(a), front_names(b));
+  EXPECT_EQ(slurp(base / "a" / "state.json"), slurp(base / "b" / "state.json"));
+  // a finished search reruns from its cache: nothing new evaluated, the same front
+  const SearchResult c = run_search(o, fx.w, fx.cm, ctx);
+  EXPECT_EQ(c.generations_run, 0);
+  EXPECT_EQ(c.evaluations, 0u);
+  EXPECT_EQ(front_names(c), front_names(a));
+  // another seed in the same directory: refused, the state left as it was
+  const std::string before = slurp(base / "b" / "state.json");
+  o.seed = 12;
+  EXPECT_THROW(run_search(o, fx.w, fx.cm, ctx), IrError);
+  EXPECT_EQ(slurp(base / "b" / "state.json"), before);
+  // another seed elsewhere: another search (the check above is not vacuous)
+  o.out_dir = (base / "c").string();
+  EXPECT_NE(slurp(base / "a" / "state.json"), (run_search(o, fx.w, fx.cm, ctx), slurp(base / "c" / "state.json")));
+  fs::remove_all(base);
+}
+
+// True when the front has a design within 5 % of the reference's area at no more mean and max
+// error and no more failures.
+bool recovers(const std::vector<Candidate>& front, const Fitness& ref) {
+  for (const auto& c : front)
+    if (c.fit.cost.area_um2 <= 1.05 * ref.cost.area_um2 && c.fit.mean_rel <= ref.mean_rel &&
+        c.fit.max_rel <= ref.max_rel && c.fit.failures() <= ref.failures())
+      return true;
+  return false;
+}
+
+TEST(Search, FromAWorseStartFindsFig36OrBetter) {
+  Fixture fx;
+  const Fitness fig36 = evaluate_fitness(tri_graph(fig36_genome()), fx.w, fx.cm);
+  const Fitness worst = evaluate_fitness(tri_graph(start_genome("worst")), fx.w, fx.cm);
+  EXPECT_GT(worst.cost.area_um2, 1.05 * fig36.cost.area_um2);  // the start really is worse
+  const fs::path dir = fs::temp_directory_path() / "ru-search-recover";
+  fs::remove_all(dir);
+  SearchOptions o;
+  o.start = start_genome("worst");
+  o.population = 16;
+  o.seed = 1;
+  o.threads = 2;
+  o.out_dir = dir.string();
+  o.generations = 0;  // the start population alone does not pass the check (it can fail)
+  EXPECT_FALSE(recovers(run_search(o, fx.w, fx.cm, {{"test", 2}}).front, fig36));
+  o.generations = 12;
+  const SearchResult r = run_search(o, fx.w, fx.cm, {{"test", 2}});
+  EXPECT_TRUE(recovers(r.front, fig36)) << "front of " << r.front.size();
+  fs::remove_all(dir);
+}
+
+}  // namespace
