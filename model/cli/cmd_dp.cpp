@@ -15,10 +15,18 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A design name, or a file in the text form (docs/DATAPATH.md).
+// A design name, a genome name of the search (sv-f0-o0-...), or a file in the text form
+// (docs/DATAPATH.md).
 dp::Graph load(const std::string& what) {
   for (const auto& d : dp::designs())
     if (d.name == what) return d.make();
+  if (what.rfind("sv-", 0) == 0 || what.rfind("mt-", 0) == 0) {  // a genome of the search (dp/formulas.hpp)
+    try {
+      return dp::tri_graph(dp::parse_genome_name(what));
+    } catch (const dp::IrError& e) {
+      throw UsageError(e.what());
+    }
+  }
   if (what.find('/') != std::string::npos || what.find('.') != std::string::npos) {
     if (!fs::is_regular_file(what)) throw UsageError("no such graph file: " + what);
     try {
@@ -37,7 +45,7 @@ dp::Graph load(const std::string& what) {
 
 int run_dp(int argc, char** argv) {
   CLI::App app{"The datapath IR (docs/DATAPATH.md): `list` the named designs; `print`, `count` or `emit` a "
-               "design or a graph file. emit writes DIR/MODULE.sv (the module, registers placed by the level "
+               "design, a genome of `rayunits search tri` (sv-f0-o0-d0-a0-q0-i0-t0-p0, mt-q1-i0-p0) or a graph file. emit writes DIR/MODULE.sv (the module, registers placed by the level "
                "chain) and DIR/MODULE.f (its RTL file list).",
                "rayunits dp"};
   app.require_subcommand(1);

@@ -1,6 +1,8 @@
 // rayunits search tri: NSGA-II over ray-triangle formulations on area x error x watertightness
 // (issue 18 §2, docs/DATAPATH.md "The search").
+#include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -9,11 +11,13 @@
 
 #include "cli_util.hpp"
 #include "command.hpp"
+#include "rayunits/dp/emit.hpp"
 #include "rayunits/dp/search.hpp"
 #include "rayunits/synth/args.hpp"
 #include "rayunits/synth/process.hpp"
 #include "rayunits/units/synthetic.hpp"
 #include "rayunits/util/parallel.hpp"
+#include "rayunits/util/process.hpp"
 
 namespace ru::cli {
 namespace {
@@ -28,7 +32,7 @@ std::string fmt_g(double v, int prec = 4) {
 
 std::string csv_header() {
   return "genome,area_um2,units_um2,reg_um2,latency,add,mul,div,cmp,mean_rel,max_rel,mean_rel_t,mean_rel_beta,"
-         "mean_rel_gamma,nan,wrong_hits,leaks,double_hits,failures,role";
+         "mean_rel_gamma,nan,false_hits,false_misses,leaks,double_hits,misses,extras,role";
 }
 
 std::string csv_row(const dp::TriGenome& g, const dp::Fitness& f, const std::string& role) {
@@ -40,15 +44,16 @@ std::string csv_row(const dp::TriGenome& g, const dp::Fitness& f, const std::str
          fmt_g(f.cost.reg_um2, 8) + "," + std::to_string(f.cost.latency) + "," + op("add") + "," + op("mul") + "," +
          op("div") + "," + op("cmp") + "," + fmt_g(f.mean_rel, 6) + "," + fmt_g(f.max_rel, 6) + "," +
          fmt_g(f.mean_tbg[0], 6) + "," + fmt_g(f.mean_tbg[1], 6) + "," + fmt_g(f.mean_tbg[2], 6) + "," +
-         std::to_string(f.nan) + "," + std::to_string(f.wrong_hits) + "," + std::to_string(f.leaks) + "," +
-         std::to_string(f.double_hits) + "," + std::to_string(f.failures()) + "," + role;
+         std::to_string(f.nan) + "," + std::to_string(f.false_hits) + "," + std::to_string(f.false_misses) + "," +
+         std::to_string(f.leaks) + "," + std::to_string(f.double_hits) + "," + std::to_string(f.misses()) + "," +
+         std::to_string(f.extras()) + "," + role;
 }
 
 int run_search_cmd(int argc, char** argv) {
   CLI::App app{"Searches ray-triangle formulations (docs/DATAPATH.md \"The search\") with NSGA-II on four "
                "objectives: area at the clock (a cost model built from the cell-library flow's FP-unit rows, "
                "an estimate), mean and max relative error of t, beta, gamma against exact rationals, and "
-               "failures (watertightness leaks + double hits on a closed mesh + wrong hit decisions). "
+               "misses (watertightness leaks on a closed mesh + false misses) and extras (double hits + false hits). "
                "Resumable: run the same command again to continue; a larger --budget extends a finished run. "
                "Writes DIR/front.json, front.csv, evaluations.jsonl, state.json, cell_rows.jsonl, designs/<genome>.dp.",
                "rayunits search"};
@@ -60,7 +65,8 @@ int run_search_cmd(int argc, char** argv) {
   int population = 24, threads = static_cast<int>(util::hardware_threads());
   unsigned long long seed = 1;
   size_t records = 2048, mesh_rays = 400;
-  bool quiet = false, no_characterize = false;
+  bool quiet = false, no_characterize = false, no_verify = false;
+  double epsilon = 0.05;
   tri->add_option("--format", format, "number format eXmY[-ftz] (default e7m16)");
   tri->add_option("--clock", clock, "target clock (250MHz, 4ns, 4000ps; default 250MHz)");
   tri->add_option("--budget", budget, "evaluations: population x (generations + 1) (default 480)");
@@ -81,9 +87,15 @@ int run_search_cmd(int argc, char** argv) {
   tri->add_flag("--no-characterize", no_characterize,
                 "use only existing rows (default: FP units without a current row meeting the clock are synthesized "
                 "in the cell flow now, rows appended to DIR/cell_rows.jsonl)");
+  tri->add_option("--epsilon", epsilon, "epsilon-box size of the reported front (default 0.05: 5 %)");
+  tri->add_flag("--no-verify", no_verify,
+                "skip the cycle-by-cycle verification of the reported designs (they are then marked "
+                "'not verified')");
   tri->add_flag("--quiet", quiet, "no progress lines");
   if (!parse_args(app, argc, argv)) return 0;
 
+  const bool verify = !no_verify;
+  if (!(epsilon > 0) || !std::isfinite(epsilon)) throw UsageError("--epsilon must be a positive number");
   const num::Format fmt = num::Format::parse(format);
   const double period_ps = synth::parse_clock_ps("--clock", clock);
   if (budget < population) throw UsageError("--budget must be at least --population (" + std::to_string(population) + ")");
@@ -101,9 +113,20 @@ int run_search_cmd(int argc, char** argv) {
   };
 
   const synth::CellLibrary& lib = synth::cell_library(library);
-  fs::create_directories(out);
-  const dp::CostModel cm = dp::CostModel::build({rows}, lib, fmt, period_ps,
-                                                no_characterize ? "" : (fs::path(out) / "cell_rows.jsonl").string(), say);
+  if (population < 8 || population % 4 != 0)
+    throw UsageError("--population must be a multiple of 4 and at least 8, got " + std::to_string(population));
+  const bool made_out = !fs::exists(out);
+  if (!no_characterize) fs::create_directories(out);
+  const dp::CostModel cm = [&] {
+    try {
+      return dp::CostModel::build({rows}, lib, fmt, period_ps,
+                                  no_characterize ? "" : (fs::path(out) / "cell_rows.jsonl").string(), say);
+    } catch (...) {
+      std::error_code ec;
+      if (made_out && fs::is_empty(out, ec)) fs::remove(out, ec);  // nothing half-made left behind
+      throw;
+    }
+  }();
   for (const auto& [u, ch] : cm.units())
     say("cost model: " + u + " " + fmt.name() + " Stages " + std::to_string(ch.stages) + ", " +
         fmt_g(ch.area_um2, 7) + " um2, " + fmt_g(ch.period_ps, 5) + " ps (" + ch.point + ")");
@@ -133,6 +156,7 @@ int run_search_cmd(int argc, char** argv) {
       std::to_string(mesh_rays + mesh_rays / 2) + " rays");
 
   const nlohmann::json context = {{"kind", "tri"},
+                                  {"objectives", "area mean_rel max_rel misses extras"},
                                   {"format", fmt.name()},
                                   {"round", num::round_name(fmt.round)},
                                   {"period_ps", period_ps},
@@ -172,19 +196,66 @@ int run_search_cmd(int argc, char** argv) {
   util::parallel_for(refs.size(), threads,
                      [&](size_t i) { ref_fit[i] = dp::evaluate_fitness(dp::tri_graph(refs[i].g), w, cm); });
 
-  fs::create_directories(fs::path(out) / "designs");
-  nlohmann::json front = nlohmann::json::array(), refj = nlohmann::json::array();
-  std::string csv = csv_header() + "\n";
+  // The reported front: the epsilon-box front of the search's front.
+  const std::vector<dp::Candidate> reported = dp::epsilon_front(res.front, epsilon);
+  // Every reported design as a run-time registry unit (RU_DP_DESIGNS = DIR/designs, RTL in DIR/rtl:
+  // the project's RTL and the emitted modules), verified cycle by cycle by `rayunits rtl` (its
+  // build cache) against its graph at the search's format and the maximum Stages.
+  const fs::path dd = fs::path(out) / "designs", rd = fs::path(out) / "rtl", vd = fs::path(out) / "verify";
+  for (const auto& d : {dd, rd, vd}) fs::create_directories(d);
+  auto stem_of = [](const dp::TriGenome& g) {
+    std::string st = dp::genome_name(g);
+    std::replace(st.begin(), st.end(), '-', '_');
+    return st;
+  };
+  for (const auto& e : fs::directory_iterator(synth::default_rtl_dir()))
+    if (e.path().extension() == ".sv" || e.path().extension() == ".svh")
+      synth::write_file_atomic((rd / e.path().filename()).string(), synth::read_file(e.path().string()));
+  std::vector<std::string> status(reported.size(), "not verified");
+  for (size_t i = 0; i < reported.size(); ++i) {
+    const std::string st = stem_of(reported[i].genome), module = "ru_dp_" + st;
+    const dp::Graph g = dp::tri_graph(reported[i].genome);
+    synth::write_file_atomic((dd / (st + ".dp")).string(), g.print());
+    synth::write_file_atomic((rd / (module + ".sv")).string(), dp::emit_sv(g, module));
+    synth::write_file_atomic((rd / (module + ".f")).string(), dp::emit_filelist(module));
+  }
+  if (verify) {
+    ::setenv("RU_DP_DESIGNS", fs::absolute(dd).c_str(), 1);  // for the children (rtl, its tb)
+    for (size_t i = 0; i < reported.size(); ++i) {
+      const std::string st = stem_of(reported[i].genome);
+      const std::string json = (vd / (st + ".json")).string(), log = (vd / (st + ".log")).string();
+      say("verifying " + dp::genome_name(reported[i].genome) + " (" + std::to_string(i + 1) + "/" +
+          std::to_string(reported.size()) + "): rayunits rtl dp_" + st + " --format " + fmt.name() +
+          " --stages max (log " + log + ")");
+      std::vector<std::string> argv = {util::self_exe(), "rtl",      "dp_" + st, "--format", fmt.name(),
+                                       "--round",        num::round_name(fmt.round), "--stages", "max", "--rtl",
+                                       fs::absolute(rd).string(), "--vectors", "20000", "--json", json};
+      util::ProcessOptions po;
+      po.out = util::Redirect::file(log);
+      po.err_to_out = true;
+      const util::ProcessResult p = util::run_process(argv, po);
+      if (p.interrupted) throw UsageError("interrupted");
+      status[i] = p.status() == 0 ? "pass" : "FAIL (" + log + ")";
+      say("  " + status[i]);
+    }
+  }
+
+  nlohmann::json front = nlohmann::json::array(), all = nlohmann::json::array(), refj = nlohmann::json::array();
+  std::string csv = csv_header() + ",rtl\n", csv_all = csv_header() + "\n";
+  for (size_t i = 0; i < reported.size(); ++i) {
+    const auto& c = reported[i];
+    front.push_back({{"genome", dp::genome_name(c.genome)}, {"unit", "dp_" + stem_of(c.genome)},
+                     {"genes", dp::to_vector(c.genome)}, {"key", c.key}, {"fitness", to_json(c.fit)},
+                     {"rtl", status[i]}});
+    csv += csv_row(c.genome, c.fit, "front") + "," + status[i] + "\n";
+  }
   for (const auto& c : res.front) {
-    const std::string name = dp::genome_name(c.genome);
-    synth::write_file_atomic((fs::path(out) / "designs" / (name + ".dp")).string(), dp::tri_graph(c.genome).print());
-    front.push_back({{"genome", name}, {"genes", dp::to_vector(c.genome)}, {"key", c.key}, {"fitness", to_json(c.fit)},
-                     {"verified_rtl", false}});
-    csv += csv_row(c.genome, c.fit, "front") + "\n";
+    all.push_back({{"genome", dp::genome_name(c.genome)}, {"key", c.key}, {"fitness", to_json(c.fit)}});
+    csv_all += csv_row(c.genome, c.fit, "pareto") + "\n";
   }
   for (size_t i = 0; i < refs.size(); ++i) {
     refj.push_back({{"name", refs[i].name}, {"genome", dp::genome_name(refs[i].g)}, {"fitness", to_json(ref_fit[i])}});
-    csv += csv_row(refs[i].g, ref_fit[i], std::string("reference:") + refs[i].name) + "\n";
+    csv += csv_row(refs[i].g, ref_fit[i], std::string("reference:") + refs[i].name) + ",\n";
   }
   const nlohmann::json doc = {{"command", command_line("rayunits search", argc, argv)},
                               {"context", context},
@@ -192,30 +263,40 @@ int run_search_cmd(int argc, char** argv) {
                               {"population", population},
                               {"generations", so.generations},
                               {"seed", seed},
-                              {"objectives", {"area_um2 (cost model estimate)", "mean_rel", "max_rel", "failures"}},
+                              {"objectives", {"area_um2 (cost model estimate)", "mean_rel", "max_rel", "misses", "extras"}},
+                              {"epsilon", epsilon},
                               {"front", front},
+                              {"pareto_all", all},
                               {"references", refj},
-                              {"evaluations_this_run", res.evaluations},
-                              {"note", "front designs are not yet verified cycle by cycle (issue 18 section 2)"}};
+                              {"evaluations_this_run", res.evaluations}};
   synth::write_file_atomic((fs::path(out) / "front.json").string(), doc.dump(1) + "\n");
   synth::write_file_atomic((fs::path(out) / "front.csv").string(), csv);
+  synth::write_file_atomic((fs::path(out) / "pareto_all.csv").string(), csv_all);
 
-  std::printf("search tri %s at %s ps: %d generations of %d, %zu new evaluations (%.1f s); front of %zu designs\n",
+  std::printf("search tri %s at %s ps: %d generations of %d, %zu new evaluations (%.1f s); Pareto front %zu "
+              "designs, reported (epsilon %g) %zu\n",
               fmt.name().c_str(), fmt_g(period_ps, 6).c_str(), so.generations, population, res.evaluations, secs,
-              res.front.size());
-  std::printf("%-40s %12s %4s %10s %10s %8s %6s %7s\n", "design", "area_um2", "lat", "mean_rel", "max_rel", "wrong",
-              "leaks", "double");
-  auto line = [&](const std::string& n, const dp::Fitness& f) {
-    std::printf("%-40s %12.0f %4d %10.3g %10.3g %8llu %6llu %7llu\n", n.c_str(), f.cost.area_um2, f.cost.latency,
-                f.mean_rel, f.max_rel, static_cast<unsigned long long>(f.wrong_hits),
-                static_cast<unsigned long long>(f.leaks), static_cast<unsigned long long>(f.double_hits));
+              res.front.size(), epsilon, reported.size());
+  std::printf("%-40s %12s %4s %10s %10s %6s %6s %6s %7s  %s\n", "design", "area_um2", "lat", "mean_rel", "max_rel",
+              "f_miss", "leaks", "f_hit", "double", "rtl");
+  auto line = [&](const std::string& n, const dp::Fitness& f, const std::string& rtl) {
+    std::printf("%-40s %12.0f %4d %10.3g %10.3g %6llu %6llu %6llu %7llu  %s\n", n.c_str(), f.cost.area_um2,
+                f.cost.latency, f.mean_rel, f.max_rel, static_cast<unsigned long long>(f.false_misses),
+                static_cast<unsigned long long>(f.leaks), static_cast<unsigned long long>(f.false_hits),
+                static_cast<unsigned long long>(f.double_hits), rtl.c_str());
   };
-  for (const auto& c : res.front) line(dp::genome_name(c.genome), c.fit);
+  for (size_t i = 0; i < reported.size(); ++i) line(dp::genome_name(reported[i].genome), reported[i].fit, status[i]);
   std::printf("references:\n");
-  for (size_t i = 0; i < refs.size(); ++i) line(std::string(refs[i].name) + " " + dp::genome_name(refs[i].g), ref_fit[i]);
+  for (size_t i = 0; i < refs.size(); ++i)
+    line(std::string(refs[i].name) + " " + dp::genome_name(refs[i].g), ref_fit[i], "");
   std::printf("area: cost-model estimate (FP-unit cell rows + liberty registers); wrote %s/front.json, front.csv, "
-              "designs/\n",
+              "pareto_all.csv, designs/, rtl/, verify/\n",
               out.c_str());
+  for (const auto& st : status)
+    if (verify && st != "pass") {
+      std::fprintf(stderr, "rayunits search: a reported design failed its cycle-by-cycle verification\n");
+      return 1;
+    }
   return 0;
 }
 

@@ -5,13 +5,18 @@
 // within 5 % of Fig. 3.6's area at no more error (and the check fails on the start population).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <set>
 #include <string>
 #include <vector>
 
+#include "../common/files.hpp"
+#include "../common/run_rayunits.hpp"
+#include "../common/temp_dir.hpp"
 #include "rayunits/dp/formulas.hpp"
 #include "rayunits/dp/search.hpp"
 #include "rayunits/synth/units.hpp"
@@ -108,27 +113,33 @@ TEST(SearchGenome, NamesRoundTripAndBadNamesAreOneLineErrors) {
 
 // Planted rows: each unit with a current rtl_hash, plus a stale row that would be the smallest.
 struct Rows {
-  fs::path dir;
-  explicit Rows(const std::string& name) : dir(fs::temp_directory_path() / ("ru-search-test-" + name)) {
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-  }
-  ~Rows() { fs::remove_all(dir); }
+  ru::test::TempDir tmp{"ru_search_rows"};
+  fs::path dir = tmp.p;
+  std::string format;
+  explicit Rows(std::string fmt = "e7m16") : format(std::move(fmt)) {}
   void add(const std::string& unit, int stages, double period, double area, bool current = true) {
     const auto& spec = ru::synth::find_unit(unit);
     const std::string hash =
         current ? ru::synth::sources_hash(ru::synth::resolve_sources(spec, ru::synth::default_rtl_dir())) : "0000";
     nlohmann::json j = {{"unit", unit},       {"top", "ru_" + unit},       {"flow", "osu018"},
-                        {"stages", stages},   {"rtl_hash", hash},          {"format", "e7m16"},
+                        {"stages", stages},   {"rtl_hash", hash},          {"format", format},
                         {"round", "rne"},     {"subnormals", true},        {"period_ps", period},
                         {"area_um2", area},   {"fmax_mhz", 1e6 / period},  {"target_clock_ps", period},
                         {"point", unit + "_s" + std::to_string(stages)}};
     std::ofstream(dir / "rows.jsonl", std::ios::app) << j.dump() << "\n";
   }
+  // Units in the proportions the cell flow measures at e7m16 / 250 MHz (add 55, mul 102, div 217,
+  // cmp 6 thousand um2), Stages small enough for a quick Verilator build.
+  void realistic() {
+    add("fp_add", 1, 3900, 54792);
+    add("fp_mul", 1, 3800, 101980);
+    add("fp_div", 2, 3980, 217448);
+    add("fp_cmp", 0, 2490, 6335);
+  }
 };
 
 TEST(SearchCost, PicksTheSmallestCurrentRowMeetingTheClockAndSchedules) {
-  Rows r("cost");
+  Rows r;
   r.add("fp_add", 1, 3000, 100);
   r.add("fp_add", 2, 1900, 120);
   r.add("fp_add", 3, 1500, 50, false);  // stale: never picked
@@ -159,7 +170,7 @@ TEST(SearchCost, PicksTheSmallestCurrentRowMeetingTheClockAndSchedules) {
 }
 
 TEST(SearchCost, NoRowOfAUnitIsAOneLineError) {
-  Rows r("none");
+  Rows r;
   r.add("fp_add", 1, 3000, 100);
   r.add("fp_mul", 1, 3000, 100, false);  // only stale
   try {
@@ -172,17 +183,13 @@ TEST(SearchCost, NoRowOfAUnitIsAOneLineError) {
   }
 }
 
-// A small cost model with realistic unit proportions (planted rows, areas of osu018 e7m16 units
-// in the ratio the cell flow measures them: add 55, mul 102, div 217, cmp 6 thousand um2).
+// A small cost model with realistic unit proportions (planted rows).
 struct Fixture {
-  Rows rows{"search"};
+  Rows rows;
   CostModel cm;
   Workload w;
   Fixture() {
-    rows.add("fp_add", 4, 3900, 54792);
-    rows.add("fp_mul", 4, 3800, 101980);
-    rows.add("fp_div", 21, 3980, 217448);
-    rows.add("fp_cmp", 0, 2490, 6335);
+    rows.realistic();
     const Format f = Format::parse("e7m16");
     cm = CostModel::build({rows.dir.string()}, ru::synth::cell_library("osu018"), f, 4000);
     w = make_workload(records(3, 384), f, ru::units::builtin_mesh("icosphere"), 120, 3);
@@ -195,10 +202,7 @@ std::vector<std::string> front_names(const SearchResult& r) {
   return v;
 }
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
+using ru::test::slurp;
 
 TEST(Search, SameSeedSameFrontWhateverTheThreadsOrAResume) {
   Fixture fx;
@@ -239,11 +243,11 @@ TEST(Search, SameSeedSameFrontWhateverTheThreadsOrAResume) {
 }
 
 // True when the front has a design within 5 % of the reference's area at no more mean and max
-// error and no more failures.
+// error and no more misses or extras.
 bool recovers(const std::vector<Candidate>& front, const Fitness& ref) {
   for (const auto& c : front)
     if (c.fit.cost.area_um2 <= 1.05 * ref.cost.area_um2 && c.fit.mean_rel <= ref.mean_rel &&
-        c.fit.max_rel <= ref.max_rel && c.fit.failures() <= ref.failures())
+        c.fit.max_rel <= ref.max_rel && c.fit.misses() <= ref.misses() && c.fit.extras() <= ref.extras())
       return true;
   return false;
 }
@@ -267,6 +271,78 @@ TEST(Search, FromAWorseStartFindsFig36OrBetter) {
   const SearchResult r = run_search(o, fx.w, fx.cm, {{"test", 2}});
   EXPECT_TRUE(recovers(r.front, fig36)) << "front of " << r.front.size();
   fs::remove_all(dir);
+}
+
+// ---- the command --------------------------------------------------------------------------
+
+using ru::test::run_rayunits;
+
+std::vector<std::string> small_search(const Rows& rows, const fs::path& out, const std::string& fmt) {
+  return {"search", "tri", "--format", fmt, "--clock", "4ns", "--budget", "24", "--population", "8", "--records",
+          "128", "--mesh-rays", "40", "--rows", rows.dir.string(), "--no-characterize", "--out", out.string(),
+          "--epsilon", "10", "--quiet"};
+}
+
+TEST(SearchCli, WritesTheFrontAndRefusesBadInputInOneLine) {
+  Rows rows;
+  rows.realistic();
+  ru::test::TempDir t("ru_search_cli");
+  auto args = small_search(rows, t.p / "s", "e7m16");
+  args.push_back("--no-verify");
+  const auto r = run_rayunits(args, 300);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("references:"), std::string::npos) << r.out;
+  for (const char* f : {"front.json", "front.csv", "pareto_all.csv", "state.json", "evaluations.jsonl"})
+    EXPECT_TRUE(fs::exists(t.p / "s" / f)) << f;
+  const auto doc = nlohmann::json::parse(slurp(t.p / "s" / "front.json"));
+  ASSERT_GE(doc.at("front").size(), 1u);
+  EXPECT_EQ(doc["front"][0].at("rtl"), "not verified");
+  for (const auto& d : doc["front"]) EXPECT_TRUE(fs::exists(t.p / "s" / "designs" / (d.at("unit").get<std::string>().substr(3) + ".dp")));
+  // bad input: one line on stderr, exit 2, no output directory made
+  const std::vector<std::vector<std::string>> bad = {
+      {"--start", "best"}, {"--population", "6"}, {"--epsilon", "0"}, {"--format", "e1m2"}, {"--clock", "fast"}};
+  for (const auto& extra : bad) {
+    auto a = small_search(rows, t.p / "bad", "e7m16");
+    a.insert(a.end(), extra.begin(), extra.end());
+    const auto b = run_rayunits(a, 120);
+    EXPECT_EQ(b.code, 2) << extra[0] << ": " << b.err;
+    EXPECT_EQ(std::count(b.err.begin(), b.err.end(), '\n'), 1) << b.err;
+    EXPECT_FALSE(fs::exists(t.p / "bad")) << extra[0];
+  }
+  // no current row for a unit and no characterization: one line naming the unit
+  Rows few;
+  few.add("fp_add", 1, 3900, 54792);
+  const auto n = run_rayunits(small_search(few, t.p / "few", "e7m16"), 120);
+  EXPECT_NE(n.code, 0);
+  EXPECT_NE(n.err.find("no current osu018 row of fp_"), std::string::npos) << n.err;
+  EXPECT_FALSE(fs::exists(t.p / "few"));
+}
+
+// The reported designs are run-time registry units verified cycle by cycle (rayunits rtl); the
+// same verification fails on a planted RTL error (one subtraction made an addition).
+TEST(LongSearchCli, ReportedDesignsAreVerifiedAndAPlantedRtlErrorIsCaught) {
+  Rows rows("e5m10");
+  rows.realistic();
+  ru::test::TempDir t("ru_search_verify");
+  const auto r = run_rayunits(small_search(rows, t.p / "s", "e5m10"), 3000);
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  const auto doc = nlohmann::json::parse(slurp(t.p / "s" / "front.json"));
+  ASSERT_GE(doc.at("front").size(), 1u);
+  for (const auto& d : doc["front"]) EXPECT_EQ(d.at("rtl"), "pass") << d.at("genome");
+  const std::string unit = doc["front"][0].at("unit");
+  const fs::path sv = t.p / "s" / "rtl" / ("ru_" + unit + ".sv");
+  std::string text = slurp(sv);
+  const size_t at = text.find(".op_i(1'b1)");
+  ASSERT_NE(at, std::string::npos);
+  text.replace(at, 11, ".op_i(1'b0)");
+  std::ofstream(sv) << text;
+  ::setenv("RU_DP_DESIGNS", (t.p / "s" / "designs").c_str(), 1);
+  const auto v = run_rayunits({"rtl", unit, "--format", "e5m10", "--stages", "max", "--rtl", (t.p / "s" / "rtl").string(),
+                               "--vectors", "2000", "--quiet"},
+                              1800);
+  ::unsetenv("RU_DP_DESIGNS");
+  EXPECT_EQ(v.code, 1) << v.out << v.err;
+  EXPECT_NE(v.out.find("MISMATCH"), std::string::npos);
 }
 
 }  // namespace

@@ -61,6 +61,17 @@ Levels levels(const Graph& g) {
   return L;
 }
 
+std::string max_stages_expr(const Graph& g) {
+  const Levels L = levels(g);
+  int n[4] = {0, 0, 0, 0};
+  for (int k : L.kind) ++n[k];
+  const int c = 6 * n[0] + 5 * n[1] + 6 * n[2] + 3 * n[3] - 1;
+  auto term = [](int k, const char* v) {
+    return k == 0 ? std::string() : (k == 1 ? std::string(v) : std::to_string(k) + "*" + v) + "+";
+  };
+  return term(n[1], "L") + term(n[2], "M") + std::to_string(c);
+}
+
 std::vector<std::string> emit_sources() {
   return {"ru_pipe_pkg.sv", "ru_fp_pkg.sv", "ru_pipe.sv", "ru_lzc.sv", "ru_fp_classify.sv", "ru_fp_normalize.sv",
           "ru_fp_round_pack.sv", "ru_umul.sv", "ru_fp_add.sv", "ru_fp_mul.sv", "ru_fp_div.sv", "ru_fp_cmp.sv"};

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <mutex>
 #include <pagmo/algorithms/nsga2.hpp>
 #include <pagmo/bfe.hpp>
@@ -271,8 +272,8 @@ Workload make_workload(const std::vector<units::TriRecord>& recs, const Format& 
   return w;
 }
 
-std::array<double, 4> Fitness::objectives() const {
-  return {cost.area_um2, mean_rel, max_rel, static_cast<double>(failures())};
+std::array<double, Fitness::kObjectives> Fitness::objectives() const {
+  return {cost.area_um2, mean_rel, max_rel, static_cast<double>(misses()), static_cast<double>(extras())};
 }
 
 nlohmann::json to_json(const Fitness& f) {
@@ -290,10 +291,12 @@ nlohmann::json to_json(const Fitness& f) {
           {"mean_rel_tbg", f.mean_tbg},
           {"max_rel_tbg", f.max_tbg},
           {"nan", f.nan},
-          {"wrong_hits", f.wrong_hits},
+          {"false_hits", f.false_hits},
+          {"false_misses", f.false_misses},
           {"leaks", f.leaks},
           {"double_hits", f.double_hits},
-          {"failures", f.failures()}};
+          {"misses", f.misses()},
+          {"extras", f.extras()}};
 }
 
 Fitness fitness_from_json(const nlohmann::json& j) {
@@ -312,7 +315,8 @@ Fitness fitness_from_json(const nlohmann::json& j) {
   f.mean_tbg = j.at("mean_rel_tbg");
   f.max_tbg = j.at("max_rel_tbg");
   f.nan = j.at("nan");
-  f.wrong_hits = j.at("wrong_hits");
+  f.false_hits = j.at("false_hits");
+  f.false_misses = j.at("false_misses");
   f.leaks = j.at("leaks");
   f.double_hits = j.at("double_hits");
   return f;
@@ -333,7 +337,8 @@ Fitness evaluate_fitness(const Graph& g, const Workload& w, const CostModel& cm)
     for (int k = 0; k < 17; ++k) x[k] = Soft::from_double(w.in[r][k]);
     const auto v = evaluate<Soft>(g, x);
     const bool hit = v[hit_n].b;
-    f.wrong_hits += hit != static_cast<bool>(w.exact_hit[r]);
+    f.false_hits += hit && !w.exact_hit[r];
+    f.false_misses += !hit && w.exact_hit[r];
     if (!w.exact_hit[r]) continue;
     for (int k = 0; k < 3; ++k) {
       const mpq_class& ex = w.exact_tbg[r][k];
@@ -390,7 +395,7 @@ std::vector<Candidate> pareto_front(const std::vector<Candidate>& all) {
   auto dominates = [](const Candidate& a, const Candidate& b) {
     const auto x = a.fit.objectives(), y = b.fit.objectives();
     bool better = false;
-    for (int k = 0; k < 4; ++k) {
+    for (int k = 0; k < Fitness::kObjectives; ++k) {
       if (x[k] > y[k]) return false;
       better |= x[k] < y[k];
     }
@@ -411,6 +416,46 @@ std::vector<Candidate> pareto_front(const std::vector<Candidate>& all) {
     return genome_name(a.genome) < genome_name(b.genome);
   });
   return front;
+}
+
+std::vector<Candidate> epsilon_front(const std::vector<Candidate>& front, double eps) {
+  if (!(eps > 0)) throw IrError("epsilon must be > 0");
+  auto box = [&](const Candidate& c) {
+    const auto o = c.fit.objectives();
+    std::array<long, Fitness::kObjectives> b{};
+    for (int k = 0; k < Fitness::kObjectives; ++k) {
+      const double v = k >= 3 ? 1.0 + o[k] : o[k];  // counts
+      b[k] = v > 0 ? static_cast<long>(std::floor(std::log(v) / std::log1p(eps))) : std::numeric_limits<long>::min();
+    }
+    return b;
+  };
+  std::map<std::array<long, Fitness::kObjectives>, Candidate> boxes;  // one design per box: the smallest area, then name
+  for (const auto& c : front) {
+    const auto b = box(c);
+    auto it = boxes.find(b);
+    if (it == boxes.end() || c.fit.cost.area_um2 < it->second.fit.cost.area_um2 ||
+        (c.fit.cost.area_um2 == it->second.fit.cost.area_um2 && genome_name(c.genome) < genome_name(it->second.genome)))
+      boxes[b] = c;
+  }
+  std::vector<Candidate> out;
+  for (const auto& [b, c] : boxes) {
+    bool dominated = false;
+    for (const auto& [b2, c2] : boxes) {
+      if (b2 == b) continue;
+      bool le = true;
+      for (int k = 0; k < Fitness::kObjectives; ++k) le &= b2[k] <= b[k];
+      if (le) {
+        dominated = true;
+        break;
+      }
+    }
+    if (!dominated) out.push_back(c);
+  }
+  std::sort(out.begin(), out.end(), [](const Candidate& a, const Candidate& b) {
+    if (a.fit.cost.area_um2 != b.fit.cost.area_um2) return a.fit.cost.area_um2 < b.fit.cost.area_um2;
+    return genome_name(a.genome) < genome_name(b.genome);
+  });
+  return out;
 }
 
 namespace {
@@ -508,7 +553,7 @@ struct TriProblem {
     for (int i = 0; i < kTriGenes; ++i) hi[i] = kTriGeneCount[i] - 1;
     return {lo, hi};
   }
-  pagmo::vector_double::size_type get_nobj() const { return 4; }
+  pagmo::vector_double::size_type get_nobj() const { return Fitness::kObjectives; }
   pagmo::vector_double::size_type get_nix() const { return kTriGenes; }
   std::string get_name() const { return "rayunits ray-triangle formulations"; }
   static TriGenome decode(const pagmo::vector_double& x) {

@@ -186,6 +186,13 @@ Key build_key(const Request& r) {
   k.parts["rtl_hash"] = rtl_hash_of(r, *r.unit);
   k.parts["unit"] = r.unit->name;
   k.parts["config"] = tb_config(*r.unit, r.cfg);
+  if (!r.unit->design_file.empty()) {  // a run-time design: its graph too (the RTL hash covers its module)
+    try {
+      k.parts["design"] = util::fnv1a64_hex(synth::read_file(r.unit->design_file));
+    } catch (const std::exception& e) {
+      throw RtlError(e.what());
+    }
+  }
   common_parts(r, k.parts);
   k.hash = util::fnv1a64_hex(k.parts.dump());
   return k;
@@ -196,7 +203,9 @@ namespace {
 // The cached executable of key k, or its build: `spec` declares the target in the cache's build
 // tree (RU_TB_JOB_CONFIGS for a test executable, RU_TB_COSIM_JOB for a companion; target name
 // "tbjob_<key>").
-Build ensure_product(const CacheOptions& r, const Key& k, const std::string& what, bool cosim, const std::string& spec) {
+// extra_registry: the registry JSON of a unit given at run time (RU_TB_EXTRA_REGISTRY), or empty.
+Build ensure_product(const CacheOptions& r, const Key& k, const std::string& what, bool cosim, const std::string& spec,
+                     const std::string& extra_registry = "") {
   const fs::path cache = fs::absolute(r.cache_dir.empty() ? default_cache_dir() : r.cache_dir);
   const fs::path bin = cache / "bin" / k.hash;
   Build b;
@@ -228,11 +237,16 @@ Build ensure_product(const CacheOptions& r, const Key& k, const std::string& wha
   const std::string rtl = fs::absolute(r.rtl_dir.empty() ? synth::default_rtl_dir() : r.rtl_dir).string();
   say(r, "rtl: " + what + ": cache miss " + k.hash + ", building (log " + log + ")");
   const fs::path build = tree / "build";
+  std::string extra;
+  if (!extra_registry.empty()) {
+    extra = (cache / "logs" / (k.hash + ".registry.json")).string();
+    synth::write_file_atomic(extra, extra_registry);
+  }
   const char* jobs_env = std::getenv("RU_JOBS");
   const std::string jobs = jobs_env && *jobs_env ? jobs_env : std::to_string(std::max(1u, std::thread::hardware_concurrency()));
   std::vector<std::vector<std::string>> steps = {
       {"cmake", "-S", src, "-B", build.string(), "-G", "Ninja", "-DCMAKE_BUILD_TYPE=Release", "-DRU_TB=ON",
-       "-DRU_TB_JOBS_ONLY=ON", "-DRU_TB_RTL_DIR=" + rtl,
+       "-DRU_TB_JOBS_ONLY=ON", "-DRU_TB_RTL_DIR=" + rtl, "-DRU_TB_EXTRA_REGISTRY=" + extra,
        "-DRU_TB_JOB_CONFIGS=" + (cosim ? std::string() : target + "=" + spec),
        "-DRU_TB_COSIM_JOB=" + (cosim ? target + "=" + spec : std::string())},
       {"cmake", "--build", build.string(), "--target", target, "-j", jobs},
@@ -276,7 +290,8 @@ Build ensure_product(const CacheOptions& r, const Key& k, const std::string& wha
 Build ensure_built(const Request& r) {
   const Key k = build_key(r);
   const std::string cfg = k.parts["config"].get<std::string>();
-  return ensure_product(r, k, r.unit->name + " " + cfg, false, r.unit->name + ":" + cfg);
+  return ensure_product(r, k, r.unit->name + " " + cfg, false, r.unit->name + ":" + cfg,
+                        r.unit->design_file.empty() ? "" : synth::registry_json({*r.unit}));
 }
 
 Build ensure_cosim(const CosimRequest& r) {

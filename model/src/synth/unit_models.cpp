@@ -284,8 +284,7 @@ GoldenEval ray_tri_golden(const UnitConfig& c, bool robust) {
   };
 }
 
-GoldenEval dp_golden(const UnitConfig& c, const std::string& design) {
-  auto g = std::make_shared<dp::Graph>(dp::find_design(design).make());
+GoldenEval dp_golden(const UnitConfig& c, std::shared_ptr<const dp::Graph> g) {
   const Format f = c.fmt;
   return [g, f](const uint64_t* in, uint64_t* out) {
     num::SoftScope scope(f);

@@ -1,6 +1,7 @@
 // The unit registry and the wrapper generator. See rayunits/synth/units.hpp.
 #include "rayunits/synth/units.hpp"
 
+#include "rayunits/dp/emit.hpp"
 #include "rayunits/dp/formulas.hpp"
 
 #include <algorithm>
@@ -9,6 +10,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -142,6 +144,69 @@ std::vector<std::string> fp_long(const std::string& mid) {
 // add div cmp (4 add, 2 mul), ray_tri_mt = add mul add mul add add div mul add cmp (5 add, 3 mul).
 // (The registry before this one counted one add level too many for both triangle units.) Checked against each top module's MaxUsefulStages
 // (check_against_rtl, ctest Registry.MaxUsefulStagesMatchRtl).
+// A ray-triangle datapath graph (dp/ir.hpp) as a registry unit dp_<stem>: module ru_dp_<stem>,
+// file list ru_dp_<stem>.f, one W-bit port per graph input and output (a Boolean output is 1 bit),
+// the graph itself as the golden model (models::dp_golden), the ray-triangle workload as inputs
+// (17 fields in the graphs' input order), the maximum Stages from the graph's levels.
+UnitSpec dp_unit(const std::string& stem, const std::string& summary, std::shared_ptr<const dp::Graph> g) {
+  const dp::Graph tri = dp::ray_tri_mt_graph();
+  if (g->inputs() != tri.inputs())
+    throw SynthError("datapath design " + stem + ": a unit needs the ray-triangle inputs (ax ay az dx .. tmax), got " +
+                     std::to_string(g->inputs().size()) + " inputs");
+  UnitSpec s;
+  s.name = "dp_" + stem;
+  s.top = "ru_dp_" + stem;
+  s.summary = summary;
+  s.filelist = s.top + ".f";
+  s.synth_share = false;
+  s.params = fp_params();
+  s.ports = control_ports();
+  for (const auto& in : g->inputs()) s.ports.push_back(fin((in + "_i").c_str(), "W", ("graph input " + in).c_str()));
+  s.ports.push_back(out_valid());
+  for (const auto& [name, n] : g->outputs()) {
+    const std::string pn = name + "_o", doc = "graph output " + name;
+    s.ports.push_back(dp::op_is_bool(g->nodes()[n].op) ? out(pn.c_str(), "1", doc.c_str())
+                                                        : fout(pn.c_str(), "W", doc.c_str()));
+  }
+  s.golden = [g](const UnitConfig& c) { return models::dp_golden(c, g); };
+  s.random_inputs = models::ray_tri_inputs;
+  s.large_model = true;
+  s.max_stages_expr = dp::max_stages_expr(*g);
+  return s;
+}
+
+std::vector<UnitSpec> runtime_dp_units() {
+  std::vector<UnitSpec> out;
+  const char* dir = std::getenv("RU_DP_DESIGNS");
+  if (!dir || !*dir) return out;
+  std::error_code ec;
+  if (!std::filesystem::is_directory(dir, ec))
+    throw SynthError(std::string("RU_DP_DESIGNS: no such directory: ") + dir);
+  std::vector<std::filesystem::path> files;
+  for (const auto& e : std::filesystem::directory_iterator(dir, ec))
+    if (e.path().extension() == ".dp") files.push_back(e.path());
+  std::sort(files.begin(), files.end());
+  for (const auto& f : files) {
+    const std::string stem = f.stem().string();
+    const bool ok = !stem.empty() && std::all_of(stem.begin(), stem.end(), [](char c) {
+      return (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_';
+    });
+    if (!ok) throw SynthError("RU_DP_DESIGNS: " + f.string() + ": a design name is [a-z0-9_]+");
+    if (stem == "ray_tri_robust" || stem == "ray_tri_mt")
+      throw SynthError("RU_DP_DESIGNS: " + f.string() + ": dp_" + stem + " is a built-in unit");
+    std::shared_ptr<const dp::Graph> g;
+    try {
+      g = std::make_shared<const dp::Graph>(dp::Graph::parse(read_file(f.string())));
+    } catch (const dp::IrError& e) {
+      throw SynthError("RU_DP_DESIGNS: " + f.string() + ": " + e.what());
+    }
+    UnitSpec s = dp_unit(stem, "datapath design " + f.string(), g);
+    s.design_file = std::filesystem::absolute(f).string();
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
 std::vector<UnitSpec> make_units() {
   using num::Op;
   std::vector<UnitSpec> u;
@@ -328,31 +393,18 @@ std::vector<UnitSpec> make_units() {
   // graphs' input order).
   for (const bool robust : {true, false}) {
     const std::string design = robust ? "ray_tri_robust" : "ray_tri_mt";
-    UnitSpec s;
-    s.name = "dp_" + design;
-    s.top = "ru_dp_" + design;
-    s.summary = std::string(robust ? "Kensler Fig. 3.6" : "Moller-Trumbore") +
-                " emitted from the datapath IR (rayunits dp emit " + design + ")";
-    s.filelist = s.top + ".f";
-    s.synth_share = false;
-    s.params = fp_params();
-    s.ports = control_ports();
-    const dp::Graph g = dp::find_design(design).make();
-    for (const auto& in : g.inputs()) s.ports.push_back(fin((in + "_i").c_str(), "W", ("graph input " + in).c_str()));
-    s.ports.push_back(out_valid());
-    for (const auto& [name, n] : g.outputs()) {
-      const std::string pn = name + "_o", doc = "graph output " + name;
-      s.ports.push_back(dp::op_is_bool(g.nodes()[n].op) ? out(pn.c_str(), "1", doc.c_str())
-                                                         : fout(pn.c_str(), "W", doc.c_str()));
-    }
-    s.golden = [design](const UnitConfig& c) { return models::dp_golden(c, design); };
-    s.random_inputs = models::ray_tri_inputs;
-    s.large_model = true;
+    UnitSpec s = dp_unit(design,
+                         std::string(robust ? "Kensler Fig. 3.6" : "Moller-Trumbore") +
+                             " emitted from the datapath IR (rayunits dp emit " + design + ")",
+                         std::make_shared<const dp::Graph>(dp::find_design(design).make()));
     s.tests = {robust ? "e5m10:smax+1" : "e5m10:smax+1:selftest"};  // e5m10: the build is ~1/3 of e8m23's
     s.long_tests = {"e8m23:smax+1", "e8m23:s0", "e7m16:s20:rtz", "e5m10-ftz:s2"};
-    s.max_stages_expr = robust ? "2*L+M+42" : "3*L+M+53";  // as ray_tri_robust / ray_tri_mt above
     u.push_back(std::move(s));
   }
+  // Datapath designs given at run time (a search's front, docs/DATAPATH.md): every <stem>.dp graph
+  // file in $RU_DP_DESIGNS is the unit dp_<stem>, RTL ru_dp_<stem>.sv/.f (`rayunits dp emit`), in
+  // the RTL directory the caller names (`rayunits rtl --rtl DIR`, `synth --rtl DIR`).
+  for (auto& s : runtime_dp_units()) u.push_back(std::move(s));
   {
     // Kensler's gradient noise unit (fixed point, no floating-point format): an example of a
     // unit with its own parameters (--param FracBits=8 ...).

@@ -36,6 +36,13 @@ Levels levels(const Graph& g);
 
 std::string emit_sv(const Graph& g, const std::string& module);
 
+// The emitted module's maximum useful Stages as a registry expression in L and M (every cut
+// position of every level registered, minus one): a level of kind add has 6 segments, mul L+5
+// (L = csa_levels(M+1)), div M+6, cmp 3 (ru_fp_pkg add_nseg/mul_nseg/div_nseg/cmp_nseg; checked
+// against the emitted RTL's MaxUsefulStages by RegistryRtl.MaxUsefulStagesMatchRtl). E.g.
+// "2*L+M+42" for Fig. 3.6.
+std::string max_stages_expr(const Graph& g);
+
 // The RTL files an emitted module needs, in compile order (names under rtl/).
 std::vector<std::string> emit_sources();
 // The file list of an emitted module (emit_sources(), then MODULE.sv; one per line): MODULE.f.

@@ -7,8 +7,10 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
+#include "rayunits/dp/ir.hpp"
 #include "rayunits/num/format.hpp"
 #include "rayunits/synth/units.hpp"
 #include "rayunits/units/trace.hpp"
@@ -58,7 +60,7 @@ InputGen ray_tri_inputs(const UnitConfig& c, uint64_t seed);
 // A design of the datapath IR (dp/formulas.hpp, by name) as the golden model of its emitted module
 // (rayunits dp emit): the graph evaluated in Soft, one output field per graph output (a Boolean
 // output is 0/1).
-GoldenEval dp_golden(const UnitConfig& c, const std::string& design);
+GoldenEval dp_golden(const UnitConfig& c, std::shared_ptr<const dp::Graph> g);
 // noise: x y z -> value
 GoldenEval noise_golden(const UnitConfig& c);
 InputGen noise_inputs(const UnitConfig& c, uint64_t seed);

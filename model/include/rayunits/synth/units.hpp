@@ -101,6 +101,7 @@ struct ExtraParam {
 
 struct UnitSpec {
   std::string name;     // CLI name: "fp_mul"
+  std::string design_file;  // a datapath design given at run time ($RU_DP_DESIGNS/<stem>.dp), else empty
   std::string top;      // RTL module: "ru_fp_mul"
   std::string summary;  // one line
   // Sources relative to the rtl/ directory, dependencies first. If `filelist` names an
