@@ -183,6 +183,37 @@ TEST(SearchCost, NoRowOfAUnitIsAOneLineError) {
   }
 }
 
+Candidate planted(const std::string& genome, double area, double mean, double max, uint64_t leaks, uint64_t dbl) {
+  Candidate c;
+  c.genome = parse_genome_name(genome);
+  c.key = genome;
+  c.fit.cost.area_um2 = area;
+  c.fit.mean_rel = mean;
+  c.fit.max_rel = max;
+  c.fit.leaks = leaks;
+  c.fit.double_hits = dbl;
+  return c;
+}
+
+TEST(SearchFront, ParetoAndEpsilonBoxes) {
+  const std::vector<Candidate> all = {
+      planted("sv-f0-o0-d0-a0-q0-i0-t0-p0", 100, 0.010, 1, 0, 50),  // front
+      planted("sv-f0-o0-d0-a0-q0-i0-t0-p1", 101, 0.0099, 1, 0, 50),  // front, same 5 % box as the first
+      planted("sv-f0-o0-d0-a0-q0-i0-t0-p2", 102, 0.011, 1, 0, 51),  // dominated by the first
+      planted("sv-f0-o0-d0-a0-q0-i0-t1-p0", 120, 0.010, 1, 3, 5),  // front: fewer extras, more misses
+      planted("mt-q1-i0-p0", 60, 0.02, 2, 10, 100),                 // front: smallest
+  };
+  std::vector<std::string> names;
+  for (const auto& c : pareto_front(all)) names.push_back(c.key);
+  EXPECT_EQ(names, (std::vector<std::string>{"mt-q1-i0-p0", "sv-f0-o0-d0-a0-q0-i0-t0-p0", "sv-f0-o0-d0-a0-q0-i0-t0-p1",
+                                             "sv-f0-o0-d0-a0-q0-i0-t1-p0"}));
+  names.clear();
+  for (const auto& c : epsilon_front(pareto_front(all), 0.05)) names.push_back(c.key);
+  EXPECT_EQ(names, (std::vector<std::string>{"mt-q1-i0-p0", "sv-f0-o0-d0-a0-q0-i0-t0-p0", "sv-f0-o0-d0-a0-q0-i0-t1-p0"}));
+  EXPECT_EQ(epsilon_front(pareto_front(all), 1e-6).size(), 4u);  // tiny boxes: the whole front
+  EXPECT_THROW(epsilon_front(all, 0), IrError);
+}
+
 // A small cost model with realistic unit proportions (planted rows).
 struct Fixture {
   Rows rows;

@@ -387,74 +387,68 @@ Fitness evaluate_fitness(const Graph& g, const Workload& w, const CostModel& cm)
 
 // ---- the search ------------------------------------------------------------------------------
 
+namespace {
+
+// Positions of the non-dominated vectors (minimization: another vector is <= in every component
+// and < in one); equal vectors do not dominate each other.
+template <class V>
+std::vector<size_t> non_dominated(const std::vector<V>& v) {
+  std::vector<size_t> out;
+  for (size_t i = 0; i < v.size(); ++i) {
+    bool dominated = false;
+    for (size_t j = 0; j < v.size() && !dominated; ++j) {
+      bool le = true, lt = false;
+      for (size_t k = 0; k < v[i].size(); ++k) le &= v[j][k] <= v[i][k], lt |= v[j][k] < v[i][k];
+      dominated = le && lt;
+    }
+    if (!dominated) out.push_back(i);
+  }
+  return out;
+}
+
+bool area_then_name(const Candidate& a, const Candidate& b) {
+  if (a.fit.cost.area_um2 != b.fit.cost.area_um2) return a.fit.cost.area_um2 < b.fit.cost.area_um2;
+  return genome_name(a.genome) < genome_name(b.genome);
+}
+
+}  // namespace
+
 std::vector<Candidate> pareto_front(const std::vector<Candidate>& all) {
   std::vector<Candidate> u;
   std::set<std::string> seen;
   for (const auto& c : all)
     if (seen.insert(c.key).second) u.push_back(c);
-  auto dominates = [](const Candidate& a, const Candidate& b) {
-    const auto x = a.fit.objectives(), y = b.fit.objectives();
-    bool better = false;
-    for (int k = 0; k < Fitness::kObjectives; ++k) {
-      if (x[k] > y[k]) return false;
-      better |= x[k] < y[k];
-    }
-    return better;
-  };
+  std::vector<std::array<double, Fitness::kObjectives>> obj;
+  for (const auto& c : u) obj.push_back(c.fit.objectives());
   std::vector<Candidate> front;
-  for (const auto& c : u) {
-    bool dom = false;
-    for (const auto& d : u)
-      if (dominates(d, c)) {
-        dom = true;
-        break;
-      }
-    if (!dom) front.push_back(c);
-  }
-  std::sort(front.begin(), front.end(), [](const Candidate& a, const Candidate& b) {
-    if (a.fit.cost.area_um2 != b.fit.cost.area_um2) return a.fit.cost.area_um2 < b.fit.cost.area_um2;
-    return genome_name(a.genome) < genome_name(b.genome);
-  });
+  for (size_t i : non_dominated(obj)) front.push_back(u[i]);
+  std::sort(front.begin(), front.end(), area_then_name);
   return front;
 }
 
 std::vector<Candidate> epsilon_front(const std::vector<Candidate>& front, double eps) {
   if (!(eps > 0)) throw IrError("epsilon must be > 0");
+  using Box = std::array<long, Fitness::kObjectives>;
   auto box = [&](const Candidate& c) {
     const auto o = c.fit.objectives();
-    std::array<long, Fitness::kObjectives> b{};
+    Box b{};
     for (int k = 0; k < Fitness::kObjectives; ++k) {
       const double v = k >= 3 ? 1.0 + o[k] : o[k];  // counts
       b[k] = v > 0 ? static_cast<long>(std::floor(std::log(v) / std::log1p(eps))) : std::numeric_limits<long>::min();
     }
     return b;
   };
-  std::map<std::array<long, Fitness::kObjectives>, Candidate> boxes;  // one design per box: the smallest area, then name
+  std::map<Box, Candidate> boxes;  // one design per box: the smallest area, then name
   for (const auto& c : front) {
-    const auto b = box(c);
+    const Box b = box(c);
     auto it = boxes.find(b);
-    if (it == boxes.end() || c.fit.cost.area_um2 < it->second.fit.cost.area_um2 ||
-        (c.fit.cost.area_um2 == it->second.fit.cost.area_um2 && genome_name(c.genome) < genome_name(it->second.genome)))
-      boxes[b] = c;
+    if (it == boxes.end() || area_then_name(c, it->second)) boxes[b] = c;
   }
-  std::vector<Candidate> out;
-  for (const auto& [b, c] : boxes) {
-    bool dominated = false;
-    for (const auto& [b2, c2] : boxes) {
-      if (b2 == b) continue;
-      bool le = true;
-      for (int k = 0; k < Fitness::kObjectives; ++k) le &= b2[k] <= b[k];
-      if (le) {
-        dominated = true;
-        break;
-      }
-    }
-    if (!dominated) out.push_back(c);
-  }
-  std::sort(out.begin(), out.end(), [](const Candidate& a, const Candidate& b) {
-    if (a.fit.cost.area_um2 != b.fit.cost.area_um2) return a.fit.cost.area_um2 < b.fit.cost.area_um2;
-    return genome_name(a.genome) < genome_name(b.genome);
-  });
+  std::vector<Box> keys;
+  std::vector<Candidate> reps, out;
+  for (const auto& [b, c] : boxes) keys.push_back(b), reps.push_back(c);
+  for (size_t i : non_dominated(keys)) out.push_back(reps[i]);
+  std::sort(out.begin(), out.end(), area_then_name);
   return out;
 }
 
