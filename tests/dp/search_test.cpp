@@ -349,6 +349,33 @@ TEST(SearchCli, WritesTheFrontAndRefusesBadInputInOneLine) {
   EXPECT_FALSE(fs::exists(t.p / "few"));
 }
 
+// A search as a sweep job (kind "search"): two seeds, two jobs, their reported designs and the
+// references as typed rows of results.jsonl; a rerun skips both (the searches' state is in out/).
+TEST(SearchCli, RunsAsSweepJobs) {
+  Rows rows;
+  rows.realistic();
+  ru::test::TempDir t("ru_search_sweep");
+  std::ofstream(t.p / "grid.toml") << "kind = \"search\"\nformat = \"e7m16\"\nclock = \"4ns\"\nbudget = 16\n"
+                                      "population = 8\nrecords = 64\nmesh_rays = 20\nscene = \"icosphere\"\n"
+                                      "no_characterize = true\nno_verify = true\nthreads = 1\nseed = [1, 2]\n"
+                                      "rows = \"" << rows.dir.string() << "\"\n";
+  const auto r = run_rayunits({"sweep", (t.p / "grid.toml").string(), "--out", (t.p / "sw").string(), "--jobs", "2"}, 600);
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  std::ifstream in(t.p / "sw" / "results.jsonl");
+  int jobs = 0;
+  for (std::string line; std::getline(in, line);) {
+    const auto j = nlohmann::json::parse(line);
+    EXPECT_EQ(j.at("status"), "ok");
+    bool fig36 = false;
+    for (const auto& row : j.at("result")) fig36 |= row.at("role") == "reference:fig36";
+    EXPECT_TRUE(fig36) << line;
+    ++jobs;
+  }
+  EXPECT_EQ(jobs, 2);
+  const auto again = run_rayunits({"sweep", (t.p / "grid.toml").string(), "--out", (t.p / "sw").string()}, 600);
+  EXPECT_EQ(again.code, 0) << again.err;
+}
+
 // The reported designs are run-time registry units verified cycle by cycle (rayunits rtl); the
 // same verification fails on a planted RTL error (one subtraction made an addition).
 TEST(LongSearchCli, ReportedDesignsAreVerifiedAndAPlantedRtlErrorIsCaught) {

@@ -581,10 +581,53 @@ Kind trax_kind() {
   return k;
 }
 
+// ---- search: a formulation search (rayunits search tri, docs/DATAPATH.md) ------------------------
+
+Kind search_kind() {
+  Kind k;
+  k.name = "search";
+  k.cmd = {"search", "tri"};
+  k.required = {"format", "clock"};
+  k.keys = {
+      {"format", T::Str, "--format", check_format, {}, "eXmY[-ftz]"},
+      {"clock", T::Str, "--clock", [](const json& v) { synth::parse_clock_ps("clock", v.get<std::string>()); }, {},
+       "target clock (250MHz, 4ns)"},
+      {"budget", T::Int, "--budget", int_range(8, 1ll << 30), {}, "evaluations"},
+      {"population", T::Int, "--population", int_range(8, 1ll << 20), {}, "NSGA-II population (multiple of 4)"},
+      {"seed", T::Int, "--seed", int_range(0, 1ll << 62), {}, "seed"},
+      {"start", T::Str, "--start", {}, {}, "start formulation or genome name"},
+      {"trace", T::Str, "--trace", check_existing_file, {}, "binary trace file"},
+      {"records", T::Int, "--records", int_range(1, 1ll << 40), {}, "records used"},
+      {"scene", T::Str, "--mesh", {}, {}, "built-in closed mesh (icosphere, torus, ...)"},
+      {"mesh", T::Str, "--mesh", check_existing_file, {}, "closed mesh file"},
+      {"mesh_rays", T::Int, "--mesh-rays", int_range(0, 1ll << 40), {}, "watertightness rays"},
+      {"rows", T::Str, "--rows", {}, {}, "directory of cell-flow rows"},
+      {"threads", T::Int, "--threads", int_range(1, 64), {}, "evaluation threads of the job"},
+      {"epsilon", T::Num, "--epsilon", num_range(1e-9, 1e9), {}, "epsilon-box size of the reported front"},
+      {"no_characterize", T::Bool, "--no-characterize", {}, {}, "use only existing cell rows"},
+      {"no_verify", T::Bool, "--no-verify", {}, {}, "skip the cycle-by-cycle verification"},
+  };
+  for (Key& key : k.keys)
+    for (char& ch : key.option)
+      if (ch == '_') ch = '-';
+  k.finish = [](Job& j, const ExpandOptions&) {
+    if (j.params.contains("scene") && j.params.contains("mesh"))
+      throw GridError("a search job takes at most one of 'scene' and 'mesh'");
+    if (j.params.contains("trace")) j.deps["trace"] = file_hash(j.params["trace"].get<std::string>());
+    if (j.params.contains("mesh")) j.deps["mesh"] = file_hash(j.params["mesh"].get<std::string>());
+    j.result = j.out_dir + "/front.csv";  // reported designs and the references, one row each
+    j.argv.push_back("--out=" + j.out_dir);
+    j.argv.push_back("--quiet");
+    return std::string();
+  };
+  return k;
+}
+
 const std::vector<Kind>& kinds() {
   static const std::vector<Kind> k = {synth_kind(),      rtl_kind(),          study_box_kind(),
                                       study_tri_kind(),  study_watertight_kind(), study_image_kind(),
-                                      study_noise_kind(), render_kind(),       trax_kind()};
+                                      study_noise_kind(), render_kind(),       trax_kind(),
+                                      search_kind()};
   return k;
 }
 
@@ -628,7 +671,8 @@ std::string key_list(const Kind& k) {
 json read_value(const Ctx& cx, const Key& key, const toml::node& n, const std::string& name) {
   std::optional<json> v = typed(n, key.type);
   if (!v) cx.fail(&n, name, "must be " + type_name(key.type) + (n.is_array() ? " (no nested arrays)" : ""));
-  if (v->is_string() && (key.name == "rtl" || key.name == "trace" || key.name == "mesh" || key.name == "config")) {
+  if (v->is_string() && (key.name == "rtl" || key.name == "trace" || key.name == "mesh" || key.name == "config" ||
+                          key.name == "rows")) {
     fs::path p(v->get<std::string>());
     if (!p.empty() && p.is_relative()) *v = (cx.base / p).lexically_normal().string();
   }
