@@ -112,6 +112,24 @@ int run_search_cmd(int argc, char** argv) {
     if (!quiet) std::fprintf(stderr, "[search tri] %s\n", s.c_str());
   };
 
+  std::vector<units::TriRecord> recs;
+  if (!trace.empty()) {
+    recs = units::read_trace(trace).tris;
+    if (recs.empty()) throw UsageError("trace " + trace + " holds no ray-triangle records");
+    if (recs.size() > records) {  // evenly spaced records of the whole trace
+      std::vector<units::TriRecord> sub;
+      for (size_t i = 0; i < records; ++i) sub.push_back(recs[i * recs.size() / records]);
+      recs.swap(sub);
+    }
+  } else {
+    units::SynthTriOptions so;
+    so.seed = seed;
+    so.rays_per_packet = 8;
+    so.triangles = (records + so.rays_per_packet - 1) / so.rays_per_packet;
+    recs = units::synth_tri(so);
+    if (recs.size() > records) recs.resize(records);
+  }
+  units::Mesh mesh = fs::is_regular_file(mesh_name) ? units::load_mesh(mesh_name) : units::builtin_mesh(mesh_name);
   const synth::CellLibrary& lib = synth::cell_library(library);
   if (population < 8 || population % 4 != 0)
     throw UsageError("--population must be a multiple of 4 and at least 8, got " + std::to_string(population));
@@ -131,24 +149,6 @@ int run_search_cmd(int argc, char** argv) {
     say("cost model: " + u + " " + fmt.name() + " Stages " + std::to_string(ch.stages) + ", " +
         fmt_g(ch.area_um2, 7) + " um2, " + fmt_g(ch.period_ps, 5) + " ps (" + ch.point + ")");
 
-  std::vector<units::TriRecord> recs;
-  if (!trace.empty()) {
-    recs = units::read_trace(trace).tris;
-    if (recs.empty()) throw UsageError("trace " + trace + " holds no ray-triangle records");
-    if (recs.size() > records) {  // evenly spaced records of the whole trace
-      std::vector<units::TriRecord> sub;
-      for (size_t i = 0; i < records; ++i) sub.push_back(recs[i * recs.size() / records]);
-      recs.swap(sub);
-    }
-  } else {
-    units::SynthTriOptions so;
-    so.seed = seed;
-    so.rays_per_packet = 8;
-    so.triangles = (records + so.rays_per_packet - 1) / so.rays_per_packet;
-    recs = units::synth_tri(so);
-    if (recs.size() > records) recs.resize(records);
-  }
-  units::Mesh mesh = fs::is_regular_file(mesh_name) ? units::load_mesh(mesh_name) : units::builtin_mesh(mesh_name);
   const auto t0 = std::chrono::steady_clock::now();
   const dp::Workload w = dp::make_workload(recs, fmt, std::move(mesh), mesh_rays, seed);
   say("workload: " + std::to_string(w.in.size()) + " records (" + std::to_string(w.skipped) +
