@@ -7,7 +7,6 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
-#include <mutex>
 #include <pagmo/algorithms/nsga2.hpp>
 #include <pagmo/bfe.hpp>
 #include <pagmo/population.hpp>
@@ -462,7 +461,6 @@ struct Evaluator {
   std::string context_hash;
   int threads = 1;
   std::string log_path;
-  std::mutex mu;
   std::map<std::string, Candidate> cache;
   std::vector<std::string> order;  // keys in evaluation order
   size_t evaluations = 0, hits = 0;
@@ -479,11 +477,11 @@ struct Evaluator {
       nlohmann::json j;
       try {
         j = nlohmann::json::parse(line);
+        if (j.at("context") != context_hash) continue;  // another workload, cost model or schema
         Candidate c;
         c.genome = parse_genome_name(j.at("genome"));
         c.key = j.at("key");
         c.fit = fitness_from_json(j.at("fitness"));
-        if (j.at("context") != context_hash) continue;  // another workload or cost model
         if (!cache.count(c.key)) order.push_back(c.key);
         cache[c.key] = c;
       } catch (const std::exception& e) {
