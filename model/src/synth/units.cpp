@@ -200,7 +200,7 @@ std::vector<UnitSpec> runtime_dp_units() {
     } catch (const dp::IrError& e) {
       throw SynthError("RU_DP_DESIGNS: " + f.string() + ": " + e.what());
     }
-    UnitSpec s = dp_unit(stem, "datapath design " + f.string(), g);
+    UnitSpec s = dp_unit(stem, "datapath design " + f.filename().string() + " (run time, RU_DP_DESIGNS)", g);
     s.design_file = std::filesystem::absolute(f).string();
     out.push_back(std::move(s));
   }
