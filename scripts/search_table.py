@@ -38,6 +38,7 @@ def main(argv):
         c = [int(r["leaks"]) + int(r["false_misses"]) for r in allrows]
         sc = ax.scatter(x, y, c=c, cmap="viridis", s=14, label="Pareto front (all evaluated)")
         fig.colorbar(sc, label="misses (leaks + false misses)")
+        labelled = 0
         for r in rows:
             if r["role"] == "front":
                 ax.scatter(float(r["area_um2"]) / 1e6, float(r["mean_rel"]), facecolors="none",
@@ -46,7 +47,9 @@ def main(argv):
                 ax.scatter(float(r["area_um2"]) / 1e6, float(r["mean_rel"]), marker="x", c="r", s=60)
                 ax.annotate(r["role"].replace("reference:", ""),
                             (float(r["area_um2"]) / 1e6, float(r["mean_rel"])), fontsize=8,
-                            xytext=(4, 4), textcoords="offset points")
+                            xytext=(4, 4 + 10 * labelled), textcoords="offset points",
+                            arrowprops={"arrowstyle": "-", "lw": 0.5})
+                labelled += 1
         ax.set_yscale("log")
         ax.set_xlabel("area, mm² (cost-model estimate, osu018)")
         ax.set_ylabel("mean relative error of t, β, γ (worst of the three)")
