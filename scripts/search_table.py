@@ -2,12 +2,61 @@
 """Markdown table of a formulation search (rayunits search tri --out DIR): the reported designs
 and the hand designs (references) from DIR/front.csv, and with --plot FILE.png the Pareto front
 of everything evaluated (DIR/pareto_all.csv) as area against mean relative error.
+With --md FILE the Markdown goes to FILE instead of standard output (`rayunits report`'s
+search section uses that).
 
-usage: scripts/search_table.py DIR [--plot FILE.png]
+Designs synthesized in full (DIR/synth_*.jsonl, rows of `rayunits synth ... --flow osu018
+--json`, e.g. `rayunits synth dp_ray_tri_robust --format e7m16 --stages 53 --flow osu018
+--clock 4000ps --json DIR/synth_dp_ray_tri_robust_s53.jsonl`, and the synthesis row of every
+DIR/gen_*/datasheet.json that `rayunits gen ... --flow osu018 --out DIR/gen_NAME` wrote) get a
+second table: the cost
+model's area and clock beside the synthesized ones. A row's unit is matched to a design by name:
+dp_<genome with '-' as '_'> (run-time units of DIR/designs), or the built-in dp units of the
+hand designs (BUILTIN below).
+
+usage: scripts/search_table.py DIR [--plot FILE.png] [--md FILE]
 """
 import csv
+import glob
+import json
 import os
 import sys
+
+# built-in registry dp units -> the reference (hand design) they are, as front.csv names it
+BUILTIN = {"dp_ray_tri_robust": "reference:fig36", "dp_ray_tri_mt": "reference:mt"}
+
+
+def synth_table(d, rows, fitness):
+    """Markdown lines: cost model vs full synthesis for every synthesized design of DIR."""
+    out = []
+    found = []  # (file name, synthesis row)
+    for path in sorted(glob.glob(os.path.join(d, "synth_*.jsonl"))):
+        found += [(os.path.basename(path), json.loads(line)) for line in open(path) if line.strip()]
+    for path in sorted(glob.glob(os.path.join(d, "gen_*", "datasheet.json"))):
+        ds = json.load(open(path))
+        if ds.get("synthesis", {}).get("area_um2") is not None:
+            found.append((os.path.relpath(path, d), ds["synthesis"]))
+    for path, s in found:
+        unit = s["unit"]
+        match = [r for r in rows if r["role"] == BUILTIN.get(unit)] or \
+                [r for r in rows if "dp_" + r["genome"].replace("-", "_") == unit]
+        if not match:
+            out.append(f"| `{unit}` | (no design of this search) | | | | | | |")
+            continue
+        r = match[0]
+        model_area = float(r["area_um2"])
+        model_ps = fitness.get(r["genome"], {}).get("period_ps")
+        err = 100.0 * (model_area - s["area_um2"]) / s["area_um2"]
+        out.append(f"| `{r['genome']}` ({r['role'].replace('reference:', 'hand: ')}) | {s['stages']} "
+                   f"| {model_area:,.0f} | {s['area_um2']:,.0f} | {err:+.1f} % "
+                   f"| {'—' if model_ps is None else f'{1e6 / model_ps:.0f} MHz'} "
+                   f"| {s['fmax_mhz']:.0f} MHz ({s['slack_ps']:+.0f} ps at {s['target_clock_ps']:.0f} ps) "
+                   f"| `{path}` |")
+    if not out:
+        return []
+    return ["", "Cost model against full synthesis (osu018, Yosys + ABC + OpenSTA, before placement):", "",
+            "| design | Stages | model area µm² (estimate) | synthesized µm² | model error | model clock "
+            "| STA Fmax | row |", "|---|---:|---:|---:|---:|---:|---:|---|"] + out
 
 
 def main(argv):
@@ -18,14 +67,29 @@ def main(argv):
     if not os.path.exists(path):
         sys.exit(f"search_table.py: no {path} (run rayunits search tri --out {d} first)")
     rows = list(csv.DictReader(open(path)))
-    print("| design | role | area µm² (estimate) | latency | mean rel. err. | max rel. err. "
+    lines = []
+    emit = lines.append  # written to --md FILE or standard output below
+    emit("| design | role | area µm² (estimate) | latency | mean rel. err. | max rel. err. "
           "| leaks | false misses | double hits | false hits | RTL |")
-    print("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|")
+    emit("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|")
     for r in rows:
         role = r["role"].replace("reference:", "hand: ")
-        print(f"| `{r['genome']}` | {role} | {float(r['area_um2']):,.0f} | {r['latency']} "
+        emit(f"| `{r['genome']}` | {role} | {float(r['area_um2']):,.0f} | {r['latency']} "
               f"| {float(r['mean_rel']):.3g} | {float(r['max_rel']):.3g} | {r['leaks']} | {r['false_misses']} "
               f"| {r['double_hits']} | {r['false_hits']} | {r.get('rtl', '') or ''} |")
+    fitness = {}
+    fj = os.path.join(d, "front.json")
+    if os.path.exists(fj):
+        f = json.load(open(fj))
+        for e in f.get("front", []) + f.get("references", []):
+            fitness[e["genome"]] = e.get("fitness", {})
+    lines += synth_table(d, rows, fitness)
+    text = "\n".join(lines) + "\n"
+    if "--md" in argv:
+        with open(argv[argv.index("--md") + 1], "w") as fo:
+            fo.write(text)
+    else:
+        sys.stdout.write(text)
     if "--plot" in argv:
         out = argv[argv.index("--plot") + 1]
         import matplotlib

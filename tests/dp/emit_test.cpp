@@ -5,7 +5,9 @@
 // not done yet: README, issue 18.)
 #include <gtest/gtest.h>
 
+#include <filesystem>
 #include <fstream>
+#include <map>
 #include <regex>
 #include <string>
 #include <vector>
@@ -116,6 +118,79 @@ TEST(DpRtl, CheckedInModulesAreTheEmitterOutput) {
     ++n;
   }
   EXPECT_EQ(n, 2);
+}
+
+// dp::max_stages_expr (the registry's max Stages of any emitted graph, run-time designs included)
+// counts each level kind's pipeline segments; the RTL computes MaxUsefulStages from the same level
+// kinds with ru_pipe_pkg / ru_fp_pkg. The two built-in dp units alone cannot pin down four
+// per-kind counts, so here one graph per kind and a mixed one, each emitted and elaborated by
+// Verilator at two formats (check_against_rtl: MaxUsefulStages equal, no output register at the
+// maximum, exactly one beyond it). A planted wrong expression is caught.
+TEST(DpEmit, MaxStagesOfEveryLevelKindIsTheRtls) {
+  if (ru::util::find_program("verilator").empty()) GTEST_SKIP() << "verilator not installed";
+  ru::test::TempDir t("ru_dp_maxst");
+  const std::string rtl = std::string(RU_SOURCE_DIR) + "/rtl/";
+  for (const auto& e : std::filesystem::directory_iterator(rtl))  // the project's RTL, includes too
+    if (e.is_regular_file()) std::filesystem::copy_file(e.path(), t.p / e.path().filename());
+  const Graph tri = ray_tri_mt_graph();  // the inputs a dp unit has (ax .. tmax)
+  std::map<std::string, int> id;  // input name -> node (the same in every graph: created first, in order)
+  auto with_inputs = [&] {
+    Graph g;
+    for (const auto& i : tri.inputs()) id[i] = g.input(i);
+    return g;
+  };
+  auto in = [&](const Graph&, const char* name) { return id.at(name); };
+  struct Case {
+    const char* name;
+    Graph g;
+  };
+  std::vector<Case> cases;
+  {
+    Graph g = with_inputs();
+    g.output("r", g.add(g.add(in(g, "ax"), in(g, "ay")), in(g, "az")));
+    cases.push_back({"add2", g});
+  }
+  {
+    Graph g = with_inputs();
+    g.output("r", g.mul(in(g, "ax"), in(g, "ay")));
+    cases.push_back({"mul1", g});
+  }
+  {
+    Graph g = with_inputs();
+    g.output("r", g.div(in(g, "ax"), in(g, "ay")));
+    cases.push_back({"div1", g});
+  }
+  {
+    Graph g = with_inputs();
+    g.output("r", g.lt(in(g, "ax"), in(g, "ay")));
+    cases.push_back({"cmp1", g});
+  }
+  {
+    Graph g = with_inputs();
+    const int p = g.mul(in(g, "ax"), in(g, "ay"));
+    g.output("r", g.lt(g.div(g.sub(p, in(g, "az")), in(g, "dx")), in(g, "tmax")));
+    cases.push_back({"mixed", g});
+  }
+  const ru::synth::UnitSpec base = ru::synth::find_unit("dp_ray_tri_mt");
+  std::vector<ru::synth::UnitConfig> cfgs;
+  for (const char* f : {"e5m10", "e8m23"}) cfgs.push_back(ru::synth::UnitConfig{ru::num::Format::parse(f), 0, {}, {}});
+  for (const Case& c : cases) {
+    ru::synth::UnitSpec u = base;
+    u.name = std::string("dp_k_") + c.name;
+    u.top = "ru_dp_k_" + std::string(c.name);
+    u.filelist = u.top + ".f";
+    u.max_stages_expr = max_stages_expr(c.g);
+    std::ofstream(t.p / (u.top + ".sv")) << emit_sv(c.g, u.top);
+    std::ofstream(t.p / u.filelist) << emit_filelist(u.top);
+    const auto bad = ru::synth::check_against_rtl(u, cfgs, t.p.string());
+    EXPECT_TRUE(bad.empty()) << c.name << " (" << u.max_stages_expr << "): " << (bad.empty() ? "" : bad.front());
+    if (std::string(c.name) == "mixed") {  // planted: one segment too many or too few
+      for (const char* d : {"+1", "-1"}) {
+        u.max_stages_expr = "(" + max_stages_expr(c.g) + ")" + d;
+        EXPECT_FALSE(ru::synth::check_against_rtl(u, {cfgs.front()}, t.p.string()).empty()) << d;
+      }
+    }
+  }
 }
 
 TEST(DpEmit, UnsupportedGraphsAreOneLineErrors) {

@@ -403,4 +403,38 @@ TEST(LongSearchCli, ReportedDesignsAreVerifiedAndAPlantedRtlErrorIsCaught) {
   EXPECT_NE(v.out.find("MISMATCH"), std::string::npos);
 }
 
+// `rayunits report --sections search` (issue 18 §3): every search directory's table comes from its
+// files — a planted area of Fig. 3.6 in front.csv and a planted synthesis row appear in the report,
+// and the cost model's error is computed from the two (7,777,777 against 7,000,000: +11.1 %); a
+// directory without front.csv is not a search and is left out.
+TEST(SearchReport, TablesAreReadFromTheResultFiles) {
+  ru::test::TempDir t("ru_search_report");
+  const fs::path src = fs::path(RU_SOURCE_DIR) / "sweeps" / "results" / "search" / "tri_e7m16_250MHz";
+  const fs::path d = t.p / "planted";
+  fs::create_directories(d);
+  fs::create_directories(t.p / "not_a_search");
+  for (const char* f : {"front.json", "pareto_all.csv"}) fs::copy_file(src / f, d / f);
+  std::string csv = slurp((src / "front.csv").string());
+  const std::string fig = "sv-f0-o0-d0-a0-q0-i0-t0-p0,8312570,";
+  ASSERT_NE(csv.find(fig), std::string::npos) << "the checked-in front.csv changed: update this test";
+  csv.replace(csv.find(fig), fig.size(), "sv-f0-o0-d0-a0-q0-i0-t0-p0,7777777,");
+  std::ofstream(d / "front.csv") << csv;
+  std::ofstream(d / "synth_dp_ray_tri_robust_s53.jsonl")
+      << R"({"unit": "dp_ray_tri_robust", "stages": 53, "area_um2": 7000000.0, "fmax_mhz": 123.4, )"
+      << R"("slack_ps": -4104.0, "target_clock_ps": 4000.0})" << "\n";
+  const auto r = run_rayunits({"report", "--sections", "search", "--param", "search.dir=" + t.p.string(), "--out",
+                               (t.p / "rep").string(), "--quiet"});
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  const std::string md = slurp((t.p / "rep" / "search_planted.md").string());
+  EXPECT_NE(md.find("| `sv-f0-o0-d0-a0-q0-i0-t0-p0` | hand: fig36 | 7,777,777 | 53 |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| `sv-f0-o0-d0-a0-q0-i0-t0-p0` (hand: fig36) | 53 | 7,777,777 | 7,000,000 | +11.1 % |"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("| 123 MHz (-4104 ps at 4000 ps) |"), std::string::npos) << md;
+  EXPECT_TRUE(fs::exists(t.p / "rep" / "search_planted.png"));
+  const std::string index = slurp((t.p / "rep" / "index.md").string());
+  EXPECT_NE(index.find("### planted"), std::string::npos);
+  EXPECT_EQ(index.find("not_a_search"), std::string::npos);
+}
+
 }  // namespace

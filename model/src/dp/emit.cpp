@@ -10,23 +10,11 @@
 namespace ru::dp {
 
 namespace {
-bool is_unit(Op o) {
-  switch (o) {
-    case Op::Add: case Op::Sub: case Op::Mul: case Op::Div: case Op::Fma: case Op::Min: case Op::Max:
-    case Op::Lt: case Op::Gt: case Op::Le: case Op::Ge: case Op::Eq:
-      return true;
-    default:
-      return false;
-  }
-}
+bool is_unit(Op o) { return *op_unit(o) != '\0'; }
 int kind_of(Op o) {  // ru_fp_pkg::KAdd 0, KMul 1, KDiv 2, KCmp 3
-  switch (o) {
-    case Op::Add: case Op::Sub: return 0;
-    case Op::Mul: return 1;
-    case Op::Div: return 2;
-    case Op::Fma: throw IrError("emit: fma has no level kind in ru_pipe_pkg yet");
-    default: return 3;
-  }
+  const std::string u = op_unit(o);
+  if (u == "fp_fma") throw IrError("emit: fma has no level kind in ru_pipe_pkg yet");
+  return u == "fp_add" ? 0 : u == "fp_mul" ? 1 : u == "fp_div" ? 2 : 3;
 }
 int weight(int kind) { return kind == 2 ? 3 : kind == 1 ? 2 : kind == 0 ? 1 : 0; }
 const char* kind_name(int k) { return k == 0 ? "KAdd" : k == 1 ? "KMul" : k == 2 ? "KDiv" : "KCmp"; }

@@ -14,19 +14,20 @@ struct OpInfo {
   int arity;
   bool is_bool;    // result
   bool bool_args;  // operands (Select: only the first)
+  const char* unit;  // the registry FP unit that carries it out, "" for logic and wiring
 };
 constexpr OpInfo kOps[] = {
-    {Op::Input, "in", 0, false, false},  {Op::Const, "const", 0, false, false},
-    {Op::Add, "add", 2, false, false},   {Op::Sub, "sub", 2, false, false},
-    {Op::Mul, "mul", 2, false, false},   {Op::Div, "div", 2, false, false},
-    {Op::Fma, "fma", 3, false, false},   {Op::Neg, "neg", 1, false, false},
-    {Op::Abs, "abs", 1, false, false},   {Op::Min, "min", 2, false, false},
-    {Op::Max, "max", 2, false, false},   {Op::Select, "sel", 3, false, false},
-    {Op::Lt, "lt", 2, true, false},      {Op::Gt, "gt", 2, true, false},
-    {Op::Le, "le", 2, true, false},      {Op::Ge, "ge", 2, true, false},
-    {Op::Eq, "eq", 2, true, false},      {Op::And, "and", 2, true, true},
-    {Op::Or, "or", 2, true, true},       {Op::Not, "not", 1, true, true},
-    {Op::BConst, "bool", 0, true, false},
+    {Op::Input, "in", 0, false, false, ""},      {Op::Const, "const", 0, false, false, ""},
+    {Op::Add, "add", 2, false, false, "fp_add"}, {Op::Sub, "sub", 2, false, false, "fp_add"},
+    {Op::Mul, "mul", 2, false, false, "fp_mul"}, {Op::Div, "div", 2, false, false, "fp_div"},
+    {Op::Fma, "fma", 3, false, false, "fp_fma"}, {Op::Neg, "neg", 1, false, false, ""},
+    {Op::Abs, "abs", 1, false, false, ""},       {Op::Min, "min", 2, false, false, "fp_cmp"},
+    {Op::Max, "max", 2, false, false, "fp_cmp"}, {Op::Select, "sel", 3, false, false, ""},
+    {Op::Lt, "lt", 2, true, false, "fp_cmp"},    {Op::Gt, "gt", 2, true, false, "fp_cmp"},
+    {Op::Le, "le", 2, true, false, "fp_cmp"},    {Op::Ge, "ge", 2, true, false, "fp_cmp"},
+    {Op::Eq, "eq", 2, true, false, "fp_cmp"},    {Op::And, "and", 2, true, true, ""},
+    {Op::Or, "or", 2, true, true, ""},           {Op::Not, "not", 1, true, true, ""},
+    {Op::BConst, "bool", 0, true, false, ""},
 };
 const OpInfo& info(Op o) {
   for (const auto& i : kOps)
@@ -38,6 +39,7 @@ const OpInfo& info(Op o) {
 const char* op_name(Op o) { return info(o).name; }
 bool op_is_bool(Op o) { return info(o).is_bool; }
 int op_arity(Op o) { return info(o).arity; }
+const char* op_unit(Op o) { return info(o).unit; }
 
 void Graph::check_operand(int n, bool want_bool, const char* what) const {
   if (n < 0 || n >= static_cast<int>(nodes_.size()))

@@ -40,24 +40,6 @@ const std::map<std::string, std::string>& kind_units() {
   return m;
 }
 
-std::string unit_of(Op o) {
-  switch (o) {
-    case Op::Add:
-    case Op::Sub: return "fp_add";
-    case Op::Mul: return "fp_mul";
-    case Op::Div: return "fp_div";
-    case Op::Fma: return "fp_fma";
-    case Op::Min:
-    case Op::Max:
-    case Op::Lt:
-    case Op::Gt:
-    case Op::Le:
-    case Op::Ge:
-    case Op::Eq: return "fp_cmp";
-    default: return "";
-  }
-}
-
 double lib_area(const synth::CellLibrary& lib, const std::string& cell) {
   const auto it = lib.area.find(cell);
   if (it == lib.area.end())
@@ -196,7 +178,7 @@ CostBreakdown CostModel::cost(const Graph& g) const {
     for (const int o : {n.a, n.b, n.c})
       if (o >= 0) s = std::max(s, ready[o]);
     start[i] = s;
-    const std::string unit = unit_of(n.op);
+    const std::string unit = op_unit(n.op);
     if (!unit.empty()) {
       const auto it = units_.find(unit);
       if (it == units_.end()) throw IrError("cost model: no " + unit + " in the model (" + op_name(n.op) + ")");

@@ -43,6 +43,9 @@ enum class Op : uint8_t {
 const char* op_name(Op o);
 bool op_is_bool(Op o);  // the node's value is a Boolean
 int op_arity(Op o);
+// The registry FP unit that carries the operation out in RTL ("fp_add" for add and sub, "fp_cmp" for
+// min/max/comparisons, ...), "" for logic and wiring (neg, abs, select, and/or/not, inputs, constants).
+const char* op_unit(Op o);
 
 struct Node {
   Op op = Op::Input;
