@@ -55,6 +55,9 @@
 #                      one session with `--until place --archive F`, check F in, route in the next.
 #   --restore FILE     before the run, unpack FILE into an empty (or missing) work directory; the
 #                      path the archive was made in is rewritten to the new one in qflow's scripts.
+#   --source-v FILE    place and route FILE, a flat plain-Verilog module named UNIT (no
+#                      RAYUNITS-SYNTH-ARGS; rayunits is not called): used by run_pnr_stages.sh for
+#                      the blocks it cuts out of a unit
 #   -h, --help         this text
 set -u -o pipefail
 
@@ -67,7 +70,7 @@ techdir=/usr/share/qflow/tech/$tech
 die() { echo "$prog: error: $*" >&2; exit 2; }
 usage() { sed -n '2,/^set -u/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'; }
 
-clock_ns=10 work= out= rayunits= step_timeout=14400 niceness=10 redo= fresh=0 checks=1 until= gw_fast=0 gw_groute=on density= archive= restore=
+clock_ns=10 work= out= rayunits= step_timeout=14400 niceness=10 redo= fresh=0 checks=1 until= gw_fast=0 gw_groute=on density= archive= restore= source_v=
 while [ $# -gt 0 ]; do
   case "$1" in
     --clock-ns) [ $# -ge 2 ] || die "--clock-ns needs a value"; clock_ns=$2; shift 2 ;;
@@ -83,10 +86,11 @@ while [ $# -gt 0 ]; do
     --density) [ $# -ge 2 ] || die "--density needs a value"; density=$2; shift 2 ;;
     --archive) [ $# -ge 2 ] || die "--archive needs a value"; archive=$2; shift 2 ;;
     --restore) [ $# -ge 2 ] || die "--restore needs a value"; restore=$2; shift 2 ;;
+    --source-v) [ $# -ge 2 ] || die "--source-v needs a value"; source_v=$2; shift 2 ;;
     --fresh) fresh=1; shift ;;
     --no-checks) checks=0; shift ;;
     -h|--help) usage; exit 0 ;;
-    --*) die "unknown option $1 (accepted: --clock-ns --work --out --rayunits --step-timeout --nice --redo --until --graywolf-fast --density --archive --restore --fresh --no-checks --help)" ;;
+    --*) die "unknown option $1 (accepted: --clock-ns --work --out --rayunits --step-timeout --nice --redo --until --graywolf-fast --density --archive --restore --source-v --fresh --no-checks --help)" ;;
     *) break ;;
   esac
 done
@@ -97,6 +101,13 @@ unit_args=("$@")
 [ -z "$density" ] || [[ "$density" =~ ^(0\.[0-9]*[1-9][0-9]*|1(\.0*)?)$ ]] || die "--density must be a number in (0, 1], got '$density'"
 [[ "$gw_fast" =~ ^[0-9]+$ ]] || die "--graywolf-fast must be a whole number, got '$gw_fast'"
 [[ "$step_timeout" =~ ^[0-9]+$ ]] || die "--step-timeout must be whole seconds, got '$step_timeout'"
+if [ -n "$source_v" ]; then
+  [ -f "$source_v" ] || die "--source-v: no such file '$source_v'"
+  [ ${#unit_args[@]} = 0 ] || die "--source-v takes no RAYUNITS-SYNTH-ARGS after UNIT (got: ${unit_args[*]})"
+  [[ "$unit" =~ ^[A-Za-z_][A-Za-z0-9_]*$ ]] || die "--source-v: UNIT must be the module's name, got '$unit'"
+  grep -q "^module $unit *(" "$source_v" || die "--source-v: '$source_v' has no 'module $unit ('"
+  source_v=$(cd "$(dirname "$source_v")" && pwd)/$(basename "$source_v")
+fi
 
 all_steps="source synthesize place sta route backanno opensta_spef migrate drc lvs gdsii"
 for s in ${redo//,/ } ${until}; do
@@ -118,12 +129,14 @@ py=/usr/bin/python3
 [ -x "$py" ] || die "missing tool '$py' (Debian package python3)"
 "$py" -c 'import matplotlib' 2>/dev/null || die "missing Python module matplotlib for $py (Debian package python3-matplotlib)"
 [ -f "$techdir/$tech.sh" ] || die "missing qflow technology $techdir/$tech.sh (Debian package qflow-tech-osu018)"
-if [ -z "$rayunits" ]; then
+if [ -n "$source_v" ]; then
+  rayunits=none
+elif [ -z "$rayunits" ]; then
   for c in "$repo/build-me/model/cli/rayunits" "${RU_BUILD_DIR:-$repo/build}/model/cli/rayunits"; do
     [ -x "$c" ] && { rayunits=$c; break; }
   done
 fi
-[ -n "$rayunits" ] && [ -x "$rayunits" ] || die "rayunits binary not found (build it: cmake -B build-me -DRU_TB=OFF && ninja -C build-me rayunits; or pass --rayunits PATH)"
+[ "$rayunits" = none ] || { [ -n "$rayunits" ] && [ -x "$rayunits" ]; } || die "rayunits binary not found (build it: cmake -B build-me -DRU_TB=OFF && ninja -C build-me rayunits; or pass --rayunits PATH)"
 
 t0_total=$(date +%s)
 config="$unit${unit_args[*]:+ ${unit_args[*]}}"
@@ -232,6 +245,11 @@ step_error() {
 # --- steps -----------------------------------------------------------------------------
 step_source() {
   local keepdir
+  if [ -n "$source_v" ]; then
+    cp "$source_v" "source/$unit.v" && echo "$unit" > top && cp "$source_v" "keep/$unit.v" || return 1
+    write_project_vars
+    return 0
+  fi
   tool "$rayunits" synth "$unit" "${unit_args[@]}" --generic-only --keep --json keep/generic.json > keep/rayunits_synth.txt 2>&1 || return $?
   cat keep/rayunits_synth.txt
   top=$(sed -n '1s/^\(ru_[A-Za-z0-9_]*\): .*/\1/p' keep/rayunits_synth.txt)
@@ -250,6 +268,9 @@ step_source() {
   } > keep/flatten.ys
   tool yosys -q -l keep/flatten.log -s keep/flatten.ys || return $?
   rm -rf "$keepdir"
+  write_project_vars
+}
+write_project_vars() {
   # qflow options: OpenSTA and vesta both; the SDC uses the unit's clock port clk_i.
   cat > project_vars.sh <<EOF
 #!/usr/bin/tcsh -f
@@ -359,7 +380,7 @@ cat > "$work/meta.json" <<EOF
   "graywolf_global_route": "$gw_groute",
   "initial_density": "${density:-unset}",
   "clock_target_mhz": $(awk "BEGIN{printf \"%.1f\", 1000/$clock_ns}"),
-  "command": "synth/pnr/run_pnr.sh --clock-ns $clock_ns$( [ "$gw_fast" = 0 ] || echo " --graywolf-fast $gw_fast")$( [ -z "$density" ] || echo " --density $density") $config",
+  "command": "synth/pnr/run_pnr.sh --clock-ns $clock_ns$( [ "$gw_fast" = 0 ] || echo " --graywolf-fast $gw_fast")$( [ -z "$density" ] || echo " --density $density")$( [ -z "$source_v" ] || echo " --source-v $source_v") $config",
   "tools": {"qflow": "$(ver qflow)", "yosys": "$(ver yosys)", "graywolf": "$(ver graywolf)",
             "qrouter": "$(ver qrouter)", "magic": "$(ver magic)", "netgen-lvs": "$(ver netgen-lvs)",
             "opensta": "$(ver opensta)", "vesta": "qflow $(ver qflow)"},
