@@ -403,6 +403,37 @@ TEST(LongSearchCli, ReportedDesignsAreVerifiedAndAPlantedRtlErrorIsCaught) {
   EXPECT_NE(v.out.find("MISMATCH"), std::string::npos);
 }
 
+// `rayunits gen` of a run-time design (issue 18 §3): without its emitted module in the RTL directory
+// it is one error line naming the `dp emit` command (before, it wrote a directory with the wrapper
+// and none of the unit's sources); with a copy of rtl/ holding the module (`rayunits dp emit`) the
+// generated directory has the module, its FP units and the wrapper.
+TEST(SearchCli, GenOfARunTimeDesignNeedsItsModuleAndSaysHow) {
+  ru::test::TempDir t("ru_search_gen");
+  const fs::path designs = t.p / "designs", rtl = t.p / "rtl";
+  fs::create_directories(designs);
+  fs::create_directories(rtl);
+  const fs::path src = fs::path(RU_SOURCE_DIR) / "sweeps" / "results" / "search" / "tri_e7m16_250MHz" / "designs";
+  fs::copy_file(src / "sv_f1_o0_d3_a1_q1_i0_t0_p0.dp", designs / "best.dp");
+  ::setenv("RU_DP_DESIGNS", designs.c_str(), 1);
+  const auto bad = run_rayunits({"gen", "dp_best", "--format", "e5m10", "--stages", "3", "--no-synth", "--out",
+                                 (t.p / "g1").string()});
+  EXPECT_EQ(bad.code, 2) << bad.out << bad.err;
+  EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1) << bad.err;
+  EXPECT_NE(bad.err.find("rayunits dp emit"), std::string::npos) << bad.err;
+  EXPECT_FALSE(fs::exists(t.p / "g1"));
+  for (const auto& e : fs::directory_iterator(fs::path(RU_SOURCE_DIR) / "rtl"))
+    if (e.is_regular_file()) fs::copy_file(e.path(), rtl / e.path().filename());
+  const auto em = run_rayunits({"dp", "emit", (designs / "best.dp").string(), "--module", "ru_dp_best", "--out",
+                                rtl.string()});
+  ASSERT_EQ(em.code, 0) << em.out << em.err;
+  const auto ok = run_rayunits({"gen", "dp_best", "--format", "e5m10", "--stages", "3", "--no-synth", "--rtl",
+                                rtl.string(), "--out", (t.p / "g2").string()});
+  ::unsetenv("RU_DP_DESIGNS");
+  ASSERT_EQ(ok.code, 0) << ok.out << ok.err;
+  for (const char* f : {"ru_dp_best.sv", "ru_fp_div.sv", "ru_level_chain.svh", "ru_dp_best_e5m10_s3.sv"})
+    EXPECT_TRUE(fs::exists(t.p / "g2" / f)) << f;
+}
+
 // `rayunits report --sections search` (issue 18 §3): every search directory's table comes from its
 // files — a planted area of Fig. 3.6 in front.csv and a planted synthesis row appear in the report,
 // and the cost model's error is computed from the two (7,777,777 against 7,000,000: +11.1 %); a

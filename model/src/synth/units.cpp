@@ -677,6 +677,12 @@ Sources resolve_sources(const UnitSpec& u, const std::string& rtl_dir) {
       out.files.push_back(p.lexically_normal().string());
     }
     if (out.files.empty()) throw SynthError(fl.string() + " lists no source files");
+  } else if (!u.filelist.empty() && u.sources.empty()) {
+    std::string msg = "unit " + u.name + ": file list " + fl.string() + " not found";
+    if (!u.design_file.empty())  // a run-time design: its module is not part of the project's RTL
+      msg += " (a run-time design's module: write it with `rayunits dp emit " + u.design_file + " --module " +
+             u.top + " --out DIR` into a copy of the project's rtl/ and pass --rtl DIR)";
+    throw SynthError(msg);
   } else {
     for (const auto& s : u.sources) out.files.push_back((root / s).lexically_normal().string());
   }
