@@ -75,8 +75,8 @@ tag=$(echo "$config" | sed 's/--//g; s/[^A-Za-z0-9=.]\{1,\}/_/g')
 work=${work:-/tmp/ru-pnr/stages_$tag}
 out=${out:-$repo/synth/results/pnr/${unit}_stages}
 [ "$fresh" = 0 ] || rm -rf "$work"
-mkdir -p "$work/blocks" "$out" || die "cannot create $work or $out"
-work=$(cd "$work" && pwd); out=$(cd "$out" && pwd)
+mkdir -p "$work/blocks" || die "cannot create $work"
+work=$(cd "$work" && pwd); out=$(realpath -m "$out")  # OUT is created once the blocks exist
 echo "$prog: $config, work $work, results $out"
 
 # --- steps 1-3: cut the unit into stage blocks (once; redone with --fresh) ------------
@@ -142,6 +142,7 @@ blocks=$(cd "$work/blocks" && ls ${top}_st*.v | sed 's/\.v$//' | sort -V)
 echo "$prog: blocks: $(echo $blocks)"
 
 # --- step 4: place and route every block ------------------------------------------------
+mkdir -p "$out" || die "cannot create $out"
 run_block() {
   local b=$1
   "$here/run_pnr.sh" "${pnr_opts[@]}" --work "$work/pnr/$b" --out "$out/$b" --source-v "$work/blocks/$b.v" "$b" \
