@@ -27,6 +27,7 @@
 #   --out DIR         results directory (default synth/results/pnr/<unit>_stages)
 #   --rayunits PATH   rayunits binary (default: build-me/ then build/ under the repo)
 #   --no-equiv        skip step 3
+#   --cut-only        stop after step 3 (the blocks in WORK/blocks/, WORK/equiv.ys; no OUT)
 #   -h, --help        this text
 # Resumable as run_pnr.sh is: rerunning the same command skips every finished step of every block.
 # Exit status: 0 every block passed every step, 1 some step failed, 2 usage error or missing tool.
@@ -38,7 +39,7 @@ repo="$(cd "$here/../.." && pwd)"
 die() { echo "$prog: error: $*" >&2; exit 2; }
 usage() { sed -n '2,/^set -u/p' "$0" | sed '$d' | sed 's/^# \{0,1\}//'; }
 
-jobs=2 work= out= rayunits= equiv=1 fresh=0
+jobs=2 work= out= rayunits= equiv=1 fresh=0 cut_only=0
 pnr_opts=()
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -47,12 +48,13 @@ while [ $# -gt 0 ]; do
     --out) [ $# -ge 2 ] || die "--out needs a value"; out=$2; shift 2 ;;
     --rayunits) [ $# -ge 2 ] || die "--rayunits needs a value"; rayunits=$2; shift 2 ;;
     --no-equiv) equiv=0; shift ;;
+    --cut-only) cut_only=1; shift ;;
     --fresh) fresh=1; pnr_opts+=("$1"); shift ;;
     --no-checks) pnr_opts+=("$1"); shift ;;
     --clock-ns|--nice|--density|--graywolf-fast|--step-timeout|--until|--redo)
       [ $# -ge 2 ] || die "$1 needs a value"; pnr_opts+=("$1" "$2"); shift 2 ;;
     -h|--help) usage; exit 0 ;;
-    --*) die "unknown option $1 (accepted: --jobs --work --out --rayunits --no-equiv --clock-ns --nice --density --graywolf-fast --step-timeout --until --redo --fresh --no-checks --help)" ;;
+    --*) die "unknown option $1 (accepted: --jobs --work --out --rayunits --no-equiv --cut-only --clock-ns --nice --density --graywolf-fast --step-timeout --until --redo --fresh --no-checks --help)" ;;
     *) break ;;
   esac
 done
@@ -140,6 +142,8 @@ top=$(cat "$work/top")
 cat "$work/rayunits_synth.txt" | head -1
 blocks=$(cd "$work/blocks" && ls ${top}_st*.v | sed 's/\.v$//' | sort -V)
 echo "$prog: blocks: $(echo $blocks)"
+
+[ "$cut_only" = 0 ] || { echo "$prog: --cut-only: blocks in $work/blocks/"; exit 0; }
 
 # --- step 4: place and route every block ------------------------------------------------
 mkdir -p "$out" || die "cannot create $out"

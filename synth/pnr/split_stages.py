@@ -212,6 +212,20 @@ def main(argv):
     for name, c in cells.items():
         if block[name] is not None:
             c.setdefault('attributes', {})['submod'] = f'st{block[name]}'  # submod names it TOP_stN
+    # A named wire with a bit that no cell and no port touches (e.g. fp_add's u_rp.c_sig[11]) would
+    # become a block port with an undriven bit (`check -assert` fails): drop such names; the bits
+    # that are connected keep their connections under Yosys's own names.
+    touched = set(out_bits)
+    for p in mod['ports'].values():
+        touched.update(b for b in p['bits'] if not isinstance(b, str))
+    for c in cells.values():
+        for bits in c['connections'].values():
+            touched.update(b for b in bits if not isinstance(b, str))
+    dangling = [n for n, w in mod['netnames'].items()
+                if any(not isinstance(b, str) and b not in touched for b in w['bits'])]
+    for n in dangling:
+        del mod['netnames'][n]
+    summary['dropped_wire_names'] = dangling
     with open(dst, 'w') as f:
         json.dump(design, f)
     for b in summary['blocks']:
