@@ -374,6 +374,20 @@ TEST(CellFlowCli, GenFindsTheSmallestStagesMeetingTheClock) {
   EXPECT_NE(md.find("smallest meeting: " + std::to_string(chosen)), std::string::npos) << md;
 }
 
+// gen at a given Stages runs the flow on the generated directory itself: its datasheet must count
+// the pipeline segments as synth does (Stages + 1; it said "of 1" for every Stages).
+TEST(CellFlowCli, GenAtGivenStagesCountsTheSegments) {
+  if (!have_sta() || !have_osu018()) GTEST_SKIP() << "sta or osu018 not installed";
+  TempDir t("ru-test-genseg-");
+  const std::string out = t.path() + "/g";
+  const CliRun r = rayunits("gen fp_cmp --format e5m10 --stages 1 --flow osu018 --clock 2.2ns --out " + out);
+  ASSERT_EQ(r.code, 0) << r.err;
+  const json ds = json::parse(read_file(out + "/datasheet.json"));
+  EXPECT_EQ(ds["synthesis"]["critical_path"]["segments"], 2) << ds["synthesis"].dump();
+  const std::string md = read_file(out + "/datasheet.md");
+  EXPECT_NE(md.find(" of 2 |"), std::string::npos) << md;
+}
+
 TEST(CellFlowCli, GenUnreachableClockIsOneLine) {
   if (!have_sta() || !have_osu018()) GTEST_SKIP() << "sta or osu018 not installed";
   TempDir t("ru-test-genclk-");

@@ -382,6 +382,13 @@ CellResult run_cell_flow(const std::vector<std::string>& abs_sources, const std:
 
 }  // namespace
 
+void label_result(SynthResult& r, const UnitSpec& u, const UnitConfig& c, const Sources& src) {
+  r.unit = u.name;
+  r.cfg = c;
+  r.rtl_hash = sources_hash(src);
+  for (auto& run : r.cell.runs) run.sta.path.segments = c.stages + 1;
+}
+
 SynthResult run_flow(const std::vector<std::string>& sources, const std::string& top,
                      const std::vector<Port>& ports, const std::string& dir, const FlowOptions& o) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -665,11 +672,8 @@ SynthResult run_synth(const UnitSpec& u, const UnitConfig& c, const FlowOptions&
     if (std::string(e.what()).find("(log: ") != std::string::npos) tmp.keep();  // the message names a log inside it
     throw;
   }
-  r.unit = u.name;
-  r.cfg = c;
-  r.rtl_hash = sources_hash(src);
+  label_result(r, u, c, src);
   for (auto& run : r.cell.runs) {
-    run.sta.path.segments = c.stages + 1;
     if (!o.stage_periods) continue;
     // Levels 1..stages+1 each once (level 0: the harness input registers); anything else means
     // the register structure is not the one the level rule assumes.

@@ -305,9 +305,7 @@ GenReport generate(const UnitSpec& u, const UnitConfig& request, const GenOption
         if (!interrupted()) work.keep();  // the message names a log in it
         throw;
       }
-      synth->unit = u.name;
-      synth->cfg = c;
-      synth->rtl_hash = sources_hash(src);
+      label_result(*synth, u, c, src);
     }
     std::vector<std::string> files = names;
     for (const auto& n : inc_names) files.push_back(n);

@@ -151,6 +151,11 @@ SynthResult run_synth(const UnitSpec& u, const UnitConfig& c, const FlowOptions&
 SynthResult run_flow(const std::vector<std::string>& sources, const std::string& top,
                      const std::vector<Port>& ports, const std::string& work_dir, const FlowOptions& o);
 
+// Labels a run_flow result as (unit, config): unit name, configuration, RTL hash of its sources and
+// the number of pipeline segments of every cell-flow critical path (Stages + 1). run_synth and
+// `gen` both call it, so a datasheet and a synth row say the same.
+void label_result(SynthResult& r, const UnitSpec& u, const UnitConfig& c, const Sources& src);
+
 // The Yosys script of the generic gate-level flow (what `gen` writes as synth.ys when given
 // bare file names). With measure=true it also writes stat.json / cmos.txt / ltp.txt.
 std::string generic_script(const std::vector<std::string>& sources, const std::string& top, bool measure,
