@@ -141,7 +141,7 @@ def main():
             fmt(r.get('ratio_die_to_cell_area'), '{:.3f}'), fmt(r.get('route_failed_nets')),
             fmt(r.get('post_route_worst_slack_ns'), '{:+.3f} ns'),
             fmt(r.get('post_route_min_period_ns'), '{:.3f} ns'),
-            'ok' if st and not bad else ('not run' if not st else 'not ok: ' + ', '.join(bad))))
+            'ok' if st and not bad else ('not finished (no summary.json)' if not st else 'not ok: ' + ', '.join(bad))))
     with open(os.path.join(a.out, 'table.md'), 'w') as f:
         f.write('\n'.join(lines) + '\n')
     print('\n'.join(lines))

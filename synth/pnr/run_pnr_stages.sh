@@ -132,7 +132,7 @@ equiv_status -assert
 EOF
     yosys -q -l "$work/equiv.log" -s "$work/equiv.ys" > /dev/null ||
       die "the stage blocks are NOT equivalent to $top: $(grep -m1 'ERROR' "$work/equiv.log") (log: $work/equiv.log)"
-    echo "$prog: equivalent ($(grep -m1 -o 'Found [0-9]* \$equiv cells' "$work/equiv.log" || echo 'equiv_status passed'))"
+    echo "$prog: equivalent ($(grep -A1 'Found [0-9]* \$equiv cells' "$work/equiv.log" | tail -1 | sed 's/^ *//'))"
   fi
   echo "$top" > "$work/top"
   echo "$(( $(date +%s) - t0 ))" > "$work/blocks.time"
@@ -170,7 +170,7 @@ while [ "$running" -gt 0 ]; do wait -n || rc_all=1; running=$((running - 1)); do
 
 # --- step 5: the unit's numbers from its blocks ----------------------------------------
 cp "$work/stages.json" "$work/flatten.ys" "$out/" 2>/dev/null
-[ ! -f "$work/equiv.log" ] || grep -E 'equiv_status|Found|proven|Unproven' "$work/equiv.log" | head -20 > "$out/equiv_status.txt"
+[ ! -f "$work/equiv.log" ] || grep -A3 'Executing EQUIV_STATUS' "$work/equiv.log" > "$out/equiv_status.txt"
 cmd="synth/pnr/run_pnr_stages.sh${pnr_opts[*]:+ ${pnr_opts[*]}} $config"
 "$py" "$here/pnr_stages_report.py" --out "$out" --stages "$work/stages.json" --generic "$work/generic.json" \
   --command "${cmd/ --fresh/}" --equiv "$( [ "$equiv" = 1 ] && echo proved || echo skipped)" $blocks || { echo "$prog: report failed" >&2; exit 1; }
