@@ -10,9 +10,10 @@ Designs synthesized in full (DIR/synth_*.jsonl, rows of `rayunits synth ... --fl
 --clock 4000ps --json DIR/synth_dp_ray_tri_robust_s53.jsonl`, and the synthesis row of every
 DIR/gen_*/datasheet.json that `rayunits gen ... --flow osu018 --out DIR/gen_NAME` wrote) get a
 second table: the cost
-model's area and clock beside the synthesized ones. A row's unit is matched to a design by name:
-dp_<genome with '-' as '_'> (run-time units of DIR/designs), or the built-in dp units of the
-hand designs (BUILTIN below).
+model's area and clock beside the synthesized ones. A row's unit is matched to a design by the
+genome its module names in its "// origin:" line (written by `rayunits dp emit` and by the
+search): rtl/ru_<unit>.sv for the built-in dp units (the hand designs), DIR/rtl/ru_<unit>.sv for
+the search's run-time ones.
 
 usage: scripts/search_table.py DIR [--plot FILE.png] [--md FILE]
 """
@@ -20,10 +21,23 @@ import csv
 import glob
 import json
 import os
+import re
 import sys
 
-# built-in registry dp units -> the reference (hand design) they are, as front.csv names it
-BUILTIN = {"dp_ray_tri_robust": "reference:fig36", "dp_ray_tri_mt": "reference:mt"}
+REPO_RTL = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "rtl")
+
+
+def unit_genome(d, unit):
+    """(genome, built-in?) from the origin line of the unit's module, (None, False) if none."""
+    for rtl, builtin in ((REPO_RTL, True), (os.path.join(d, "rtl"), False)):
+        path = os.path.join(rtl, "ru_" + unit + ".sv")
+        if os.path.exists(path):
+            for line in open(path):
+                m = re.match(r"// origin: .*genome (\S+)", line)
+                if m:
+                    return m.group(1), builtin
+            return None, builtin
+    return None, False
 
 
 def synth_table(d, rows, fitness):
@@ -38,8 +52,10 @@ def synth_table(d, rows, fitness):
             found.append((os.path.relpath(path, d), ds["synthesis"]))
     for path, s in found:
         unit = s["unit"]
-        match = [r for r in rows if r["role"] == BUILTIN.get(unit)] or \
-                [r for r in rows if "dp_" + r["genome"].replace("-", "_") == unit]
+        genome, builtin = unit_genome(d, unit)
+        match = [r for r in rows if r["genome"] == genome or
+                 (genome is None and "dp_" + r["genome"].replace("-", "_") == unit)]  # modules emitted before origin lines
+        match.sort(key=lambda r: not (builtin and r["role"].startswith("reference:")))  # a hand design's own row first
         if not match:
             out.append(f"| `{unit}` | (no design of this search) | | | | | | |")
             continue

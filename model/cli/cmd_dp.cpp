@@ -17,12 +17,15 @@ namespace fs = std::filesystem;
 
 // A design name, a genome name of the search (sv-f0-o0-...), or a file in the text form
 // (docs/DATAPATH.md).
-dp::Graph load(const std::string& what) {
+// origin: what emit writes as the module's origin line (empty for a graph file).
+dp::Graph load(const std::string& what, std::string& origin) {
   for (const auto& d : dp::designs())
-    if (d.name == what) return d.make();
+    if (d.name == what) return origin = d.origin(), d.make();
   if (what.rfind("sv-", 0) == 0 || what.rfind("mt-", 0) == 0) {  // a genome of the search (dp/formulas.hpp)
     try {
-      return dp::tri_graph(dp::parse_genome_name(what));
+      const dp::TriGenome g = dp::parse_genome_name(what);
+      origin = "genome " + dp::genome_name(g);
+      return dp::tri_graph(g);
     } catch (const dp::IrError& e) {
       throw UsageError(e.what());
     }
@@ -62,10 +65,12 @@ int run_dp(int argc, char** argv) {
   if (!parse_args(app, argc, argv)) return 0;
 
   if (list->parsed()) {
-    for (const auto& d : dp::designs()) std::printf("%-22s %s\n", d.name.c_str(), d.summary.c_str());
+    for (const auto& d : dp::designs())
+      std::printf("%-22s %-28s %s\n", d.name.c_str(), d.genome.c_str(), d.summary.c_str());
     return 0;
   }
-  const dp::Graph g = load(what);
+  std::string origin;
+  const dp::Graph g = load(what, origin);
   if (print->parsed()) {
     std::fputs(g.print().c_str(), stdout);
   } else if (count->parsed()) {
@@ -79,7 +84,7 @@ int run_dp(int argc, char** argv) {
     }
     std::string sv;
     try {
-      sv = dp::emit_sv(g, module);
+      sv = dp::emit_sv(g, module, origin);
     } catch (const dp::IrError& e) {
       throw UsageError(e.what());
     }

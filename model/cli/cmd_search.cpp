@@ -216,7 +216,8 @@ int run_search_cmd(int argc, char** argv) {
     const std::string st = stem_of(reported[i].genome), module = "ru_dp_" + st;
     const dp::Graph g = dp::tri_graph(reported[i].genome);
     synth::write_file_atomic((dd / (st + ".dp")).string(), g.print());
-    synth::write_file_atomic((rd / (module + ".sv")).string(), dp::emit_sv(g, module));
+    synth::write_file_atomic((rd / (module + ".sv")).string(),
+                             dp::emit_sv(g, module, "genome " + dp::genome_name(reported[i].genome)));
     synth::write_file_atomic((rd / (module + ".f")).string(), dp::emit_filelist(module));
   }
   if (verify) {

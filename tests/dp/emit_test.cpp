@@ -112,12 +112,22 @@ TEST(DpRtl, CheckedInModulesAreTheEmitterOutput) {
   for (const auto& u : ru::synth::units()) {
     if (u.name.rfind("dp_", 0) != 0) continue;
     const std::string design = u.name.substr(3), rtl = std::string(RU_SOURCE_DIR) + "/rtl/";
-    EXPECT_EQ(ru::test::slurp(rtl + u.top + ".sv"), emit_sv(find_design(design).make(), u.top))
+    EXPECT_EQ(ru::test::slurp(rtl + u.top + ".sv"), emit_sv(find_design(design).make(), u.top, find_design(design).origin()))
         << "rtl/" << u.top << ".sv is stale: rayunits dp emit " << design << " --out rtl";
     EXPECT_EQ(ru::test::slurp(rtl + u.top + ".f"), emit_filelist(u.top));
     ++n;
   }
   EXPECT_EQ(n, 2);
+}
+
+// Each named design's genome name (written into its module's origin line, read by
+// scripts/search_table.py to find the design among a search's rows) is the same graph.
+TEST(DpRtl, NamedDesignsAreTheirGenomes) {
+  for (const auto& d : designs()) {
+    EXPECT_EQ(tri_graph(parse_genome_name(d.genome)).print(), d.make().print()) << d.name << " vs " << d.genome;
+    EXPECT_NE(emit_sv(d.make(), "m", d.origin()).find("\n// origin: design " + d.name + " = genome " + d.genome + "\n"),
+              std::string::npos);
+  }
 }
 
 // dp::max_stages_expr (the registry's max Stages of any emitted graph, run-time designs included)

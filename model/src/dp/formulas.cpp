@@ -302,12 +302,18 @@ Graph ray_tri_robust_graph(bool tie_break, bool reciprocal) {
 Graph ray_tri_mt_graph() { return tri_graph(mt_genome()); }
 
 const std::vector<Design>& designs() {
+  TriGenome tie = fig36_genome(), recip = fig36_genome();
+  tie.tie = 1;
+  recip.divide = 1;
   static const std::vector<Design> d = {
-      {"ray_tri_robust", "Kensler Fig. 3.6 (units::ray_tri_robust, no tie-break)", [] { return ray_tri_robust_graph(); }},
-      {"ray_tri_robust_tie", "Fig. 3.6 with its zero-volume tie-break", [] { return ray_tri_robust_graph(true); }},
+      {"ray_tri_robust", "Kensler Fig. 3.6 (units::ray_tri_robust, no tie-break)", [] { return ray_tri_robust_graph(); },
+       genome_name(fig36_genome())},
+      {"ray_tri_robust_tie", "Fig. 3.6 with its zero-volume tie-break", [] { return ray_tri_robust_graph(true); },
+       genome_name(tie)},
       {"ray_tri_robust_recip", "Fig. 3.6, one reciprocal 1/V and three multiplications",
-       [] { return ray_tri_robust_graph(false, true); }},
-      {"ray_tri_mt", "Moller-Trumbore, Eq. 3.2 (units::ray_tri_mt)", [] { return ray_tri_mt_graph(); }},
+       [] { return ray_tri_robust_graph(false, true); }, genome_name(recip)},
+      {"ray_tri_mt", "Moller-Trumbore, Eq. 3.2 (units::ray_tri_mt)", [] { return ray_tri_mt_graph(); },
+       genome_name(mt_genome())},
   };
   return d;
 }

@@ -34,7 +34,9 @@ struct Levels {
 };
 Levels levels(const Graph& g);
 
-std::string emit_sv(const Graph& g, const std::string& module);
+// origin, when not empty, is written as the header's second line ("// origin: ..."); the named
+// designs and the search's modules name their genome there, which scripts/search_table.py reads.
+std::string emit_sv(const Graph& g, const std::string& module, const std::string& origin = "");
 
 // The emitted module's maximum useful Stages as a registry expression in L and M (every cut
 // position of every level registered, minus one): a level of kind add has 6 segments, mul L+5

@@ -76,6 +76,8 @@ Graph ray_tri_mt_graph();
 struct Design {
   std::string name, summary;
   Graph (*make)();
+  std::string genome;  // its name in `rayunits search tri` (genome_name), the same graph
+  std::string origin() const { return "design " + name + " = genome " + genome; }  // emit_sv's origin line
 };
 const std::vector<Design>& designs();
 const Design& find_design(const std::string& name);
