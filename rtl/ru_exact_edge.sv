@@ -159,92 +159,96 @@ module ru_exact_edge #(
   assign out_valid_o = state_q == SDone;
   assign sign_o = sign_q;
 
+  // control (reset): the state, the program counter and the step counters
   always_ff @(posedge clk_i or negedge rst_ni) begin
     if (!rst_ni) begin
       state_q <= SIdle;
       pc_q <= '0;
       cnt_q <= '0;
       dig_q <= '0;
-      sign_q <= '0;
-      t_q <= '0;
-      acc_q <= '0;
-      p_q <= '0;
-      b_q <= '0;
-      a_q <= '0;
-      d_q <= '0;
-      m_q <= '0;
-      q1_q <= '0;
-      q2_q <= '0;
-      s_q <= '0;
-      e_q <= '0;
-      dd_q <= '0;
     end else begin
       unique case (state_q)
         SIdle: if (in_valid_i) begin
-          a_q <= a_i;
-          d_q <= d_i;
-          m_q <= m_i;
-          q1_q <= q1_i;
-          q2_q <= q2_i;
           cnt_q <= '0;
           state_q <= SConv;
         end
         SConv: begin
-          unique case (cnt_q / 4'd3)
-            4'd0: s_q[cc*WS +: WS] <= WS'(conv0 - conv1);
-            4'd1: e_q[cc*WS +: WS] <= WS'(conv0 - conv1);
-            default: dd_q[cc*WS +: WS] <= WS'(conv0);
-          endcase
           cnt_q <= cnt_q + 1'b1;
           if (cnt_q == 4'd8) begin
             pc_q <= '0;
-            acc_q <= '0;
             state_q <= SExec;
           end
         end
         SExec: begin
           unique case (op)
-            OpClr: begin t_q <= '0; pc_q <= pc_q + 1'b1; end
             OpMul: begin
-              b_q <= {{(WB-WS){b_op[WS-1]}}, b_op};
-              p_q <= '0;
               dig_q <= '0;
               state_q <= SMul;
             end
             OpChkAcc: begin
-              if (acc_q != '0) begin
-                sign_q <= acc_q < 0 ? 2'b11 : 2'b01;
-                state_q <= SDone;
-              end
+              if (acc_q != '0) state_q <= SDone;
               pc_q <= pc_q + 1'b1;
             end
             OpChkT: begin
-              if (t_q != '0) begin
-                sign_q <= t_q < 0 ? 2'b11 : 2'b01;
-                state_q <= SDone;
-              end
+              if (t_q != '0) state_q <= SDone;
               pc_q <= pc_q + 1'b1;
             end
-            default: begin  // OpEnd: every term zero
-              sign_q <= 2'b00;
-              state_q <= SDone;
-            end
+            OpEnd: state_q <= SDone;  // every term zero
+            default: pc_q <= pc_q + 1'b1;  // OpClr
           endcase
         end
         SMul: begin
-          p_q <= p_next;
-          b_q <= b_q << DigitW;
           dig_q <= dig_q + 1'b1;
           if (32'(dig_q) == ND - 1) state_q <= SMulAdd;
         end
         SMulAdd: begin
-          if (to_acc) acc_q <= neg ? acc_q - WACC'(p_q) : acc_q + WACC'(p_q);
-          else t_q <= neg ? t_q - WT'(p_q) : t_q + WT'(p_q);
           pc_q <= pc_q + 1'b1;
           state_q <= SExec;
         end
         default: state_q <= SIdle;  // SDone: the result was shown for one cycle
       endcase
     end
+  end
+
+  // datapath (no reset: every register is written before it is read in a test)
+  always_ff @(posedge clk_i) begin
+    unique case (state_q)
+      SIdle: if (in_valid_i) begin
+        a_q <= a_i;
+        d_q <= d_i;
+        m_q <= m_i;
+        q1_q <= q1_i;
+        q2_q <= q2_i;
+      end
+      SConv: begin
+        unique case (cnt_q / 4'd3)
+          4'd0: s_q[cc*WS +: WS] <= WS'(conv0 - conv1);
+          4'd1: e_q[cc*WS +: WS] <= WS'(conv0 - conv1);
+          default: dd_q[cc*WS +: WS] <= WS'(conv0);
+        endcase
+        if (cnt_q == 4'd8) acc_q <= '0;
+      end
+      SExec: begin
+        unique case (op)
+          OpClr: t_q <= '0;
+          OpMul: begin
+            b_q <= {{(WB-WS){b_op[WS-1]}}, b_op};
+            p_q <= '0;
+          end
+          OpChkAcc: sign_q <= acc_q < 0 ? 2'b11 : 2'b01;
+          OpChkT: sign_q <= t_q < 0 ? 2'b11 : 2'b01;
+          default: sign_q <= 2'b00;  // OpEnd
+        endcase
+      end
+      SMul: begin
+        p_q <= p_next;
+        b_q <= b_q << DigitW;
+      end
+      SMulAdd: begin
+        if (to_acc) acc_q <= neg ? acc_q - WACC'(p_q) : acc_q + WACC'(p_q);
+        else t_q <= neg ? t_q - WT'(p_q) : t_q + WT'(p_q);
+      end
+      default: ;
+    endcase
   end
 endmodule
