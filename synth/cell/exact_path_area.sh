@@ -1,23 +1,23 @@
 #!/bin/sh
-# Area of ru_exact_edge (issue 14's exact side path; not a registry unit yet, so not through
+# Area of ru_exact_path (issue 14's exact side path; not a registry unit yet, so not through
 # `rayunits synth`) with the cell flow's Yosys/ABC steps (model/src/synth/flow.cpp: synth -flatten,
 # dfflibmap, abc -liberty with the flow's untargeted ABC script, stat -liberty), osu018.
-# No STA: the area only. Usage: synth/cell/exact_edge_area.sh EXPW FRACW DIGITW [OUTDIR]
-# Writes OUTDIR/exact_edge_eXmY_dD.txt (Yosys stat -liberty); default OUTDIR synth/results/cell/exact_edge.
+# No STA: the area only. Usage: synth/cell/exact_path_area.sh EXPW FRACW DIGITW [OUTDIR]
+# Writes OUTDIR/exact_path_eXmY_dD.txt (Yosys stat -liberty); default OUTDIR synth/results/cell/exact_path.
 set -eu
 [ $# -ge 3 ] || { echo "usage: $0 EXPW FRACW DIGITW [OUTDIR]" >&2; exit 2; }
 e=$1 m=$2 dw=$3
 here=$(cd "$(dirname "$0")" && pwd)
-out=${4:-$here/../results/cell/exact_edge}
+out=${4:-$here/../results/cell/exact_path}
 lib=/usr/share/qflow/tech/osu018/osu018_stdcells.lib
 [ -f "$lib" ] || { echo "$0: $lib not found (Debian package qflow-tech-osu018)" >&2; exit 2; }
 mkdir -p "$out"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 printf 'strash\nifraig\nscorr\ndc2\nstrash\ndch -f\nmap\ntopo\nbuffer -p\nupsize\ndnsize\n' > "$tmp/flow.abc"
-yosys -q -p "read_liberty -lib $lib; read_verilog -sv $here/../../rtl/ru_exact_edge.sv;
-  chparam -set ExpW $e -set FracW $m -set DigitW $dw ru_exact_edge; synth -flatten -top ru_exact_edge;
+yosys -q -p "read_liberty -lib $lib; read_verilog -sv $here/../../rtl/ru_exact_path.sv;
+  chparam -set ExpW $e -set FracW $m -set DigitW $dw ru_exact_path; synth -flatten -top ru_exact_path;
   dfflibmap -liberty $lib; abc -liberty $lib -script $tmp/flow.abc; opt_clean -purge; check -assert;
   tee -q -o $tmp/stat.txt stat -liberty $lib"
-mv "$tmp/stat.txt" "$out/exact_edge_e${e}m${m}_d${dw}.txt"
-grep -E 'Chip area|Number of cells' "$out/exact_edge_e${e}m${m}_d${dw}.txt"
+mv "$tmp/stat.txt" "$out/exact_path_e${e}m${m}_d${dw}.txt"
+grep -E 'Chip area|Number of cells' "$out/exact_path_e${e}m${m}_d${dw}.txt"

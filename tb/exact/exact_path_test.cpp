@@ -1,0 +1,402 @@
+// tb/exact: ru_exact_path (the exact side path of the exactly-once ray-triangle unit, issue 14)
+// cycle by cycle against the golden model's exact path (GMP rationals):
+//   op 0..2  the perturbed sign of edge k      units::exact_detail::exact_edge_sign
+//   op 3     the exact interval test           units::exact_detail::exact_interval
+// Every result bit, and every latency against the formula of rtl/ru_exact_path.sv's header (the
+// number of tie terms it needs and whether V = 0, counted here with GMP independently of the
+// model). The configurations are tb_exact_path_top.sv's instances.
+//
+// Requests per configuration: random finite bit patterns (every exponent), small-integer grids
+// (exact zero volumes, zero tie terms, V = 0), rays through a vertex with d along, against or
+// across an edge, extremes (largest finite, smallest subnormal mixed), and intervals whose bound
+// is exactly the hit's t (strictness), infinite and NaN bounds. Planted errors in the RTL
+// (Plant 1: no tie terms, 2: one product's sign, 3: an inclusive lower bound) must be reported.
+#include <gmpxx.h>
+#include <gtest/gtest.h>
+
+#include <cctype>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "Vtb_exact_path_top.h"
+#include "rayunits/num/format.hpp"
+#include "rayunits/units/ray_tri_exact.hpp"
+#include "rayunits/units/vec.hpp"
+#include "verilated.h"
+
+namespace {
+
+using ru::num::Format;
+using ru::units::Vec3d;
+
+struct Config {
+  const char* name;
+  Format f;
+  int digit;
+  int plant;
+};
+Format fmt(int e, int m, bool sub = true) {
+  Format f;
+  f.exp_bits = e;
+  f.frac_bits = m;
+  f.subnormals = sub;
+  return f;
+}
+// tb_exact_path_top.sv's instances, in order
+const Config kConfigs[] = {{"e5m10", fmt(5, 10), 16, 0},         {"e8m23", fmt(8, 23), 32, 0},
+                           {"e3m2", fmt(3, 2), 4, 0},            {"e6m12", fmt(6, 12), 8, 0},
+                           {"e4m3-ftz", fmt(4, 3, false), 8, 0}, {"e5m10 plant 1", fmt(5, 10), 16, 1},
+                           {"e5m10 plant 2", fmt(5, 10), 16, 2}, {"e5m10 plant 3", fmt(5, 10), 16, 3}};
+constexpr int kNumConfigs = sizeof(kConfigs) / sizeof(kConfigs[0]);
+
+// One request: op (0..2 edge k, 3 interval) and 17 operand bit patterns (a, d, p0, p1, p2; x, y,
+// z each; t_min, t_max).
+struct Req {
+  int op;
+  uint32_t bits[17];
+};
+
+// The value of a bit pattern as the unit reads it (flush-to-zero: a subnormal reads as zero).
+double value(const Format& f, uint32_t b) {
+  if (!f.subnormals && ((b >> f.frac_bits) & f.exp_field_max()) == 0) return 0.0;
+  return ru::num::to_double(f, b);
+}
+Vec3d vec3(const Format& f, const uint32_t* b) { return {value(f, b[0]), value(f, b[1]), value(f, b[2])}; }
+uint32_t enc(const Format& f, double x) { return static_cast<uint32_t>(ru::num::from_double(f, x).bits); }
+
+struct Expect {
+  int res;        // edge: -1, 0, +1; interval: 1 inside, 0 not
+  int ties = 0;   // edge: tie terms looked at (0: S != 0)
+  bool all_zero = false;
+  bool v_zero = false;  // interval: V = 0
+};
+
+mpq_class q(double x) { return mpq_class(x); }
+
+Expect expect(const Format& f, const Req& r) {
+  const Vec3d a = vec3(f, r.bits), d = vec3(f, r.bits + 3);
+  const Vec3d p[3] = {vec3(f, r.bits + 6), vec3(f, r.bits + 9), vec3(f, r.bits + 12)};
+  Expect e;
+  if (r.op == 3) {
+    const double tmin = value(f, r.bits[15]), tmax = value(f, r.bits[16]);
+    e.res = ru::units::exact_detail::exact_interval(a, d, p[0], p[1], p[2], tmin, tmax) ? 1 : 0;
+    // V = ((p2 - p0) x (p1 - p2)) . d (tb-side GMP, for the latency)
+    const mpq_class e1[3] = {q(p[2].x) - q(p[0].x), q(p[2].y) - q(p[0].y), q(p[2].z) - q(p[0].z)};
+    const mpq_class e0[3] = {q(p[1].x) - q(p[2].x), q(p[1].y) - q(p[2].y), q(p[1].z) - q(p[2].z)};
+    const mpq_class V = (e1[1] * e0[2] - e1[2] * e0[1]) * q(d.x) + (e1[2] * e0[0] - e1[0] * e0[2]) * q(d.y) +
+                        (e1[0] * e0[1] - e1[1] * e0[0]) * q(d.z);
+    e.v_zero = sgn(V) == 0;
+    return e;
+  }
+  const Vec3d& q1 = p[(r.op + 1) % 3];
+  const Vec3d& q2 = p[(r.op + 2) % 3];
+  const Vec3d& m = ru::units::lex_first_is_min(q1, q2) ? q1 : q2;
+  e.res = ru::units::exact_detail::exact_edge_sign(a, d, m, q1, q2, false);
+  const mpq_class sx = q(a.x) - q(m.x), sy = q(a.y) - q(m.y), sz = q(a.z) - q(m.z);
+  const mpq_class ex = q(q1.x) - q(q2.x), ey = q(q1.y) - q(q2.y), ez = q(q1.z) - q(q2.z);
+  const mpq_class S =
+      (sy * q(d.z) - sz * q(d.y)) * ex + (sz * q(d.x) - sx * q(d.z)) * ey + (sx * q(d.y) - sy * q(d.x)) * ez;
+  if (sgn(S) != 0) return e;
+  const mpq_class g[3] = {q(d.y) * ez - q(d.z) * ey, q(d.z) * ex - q(d.x) * ez, q(d.x) * ey - q(d.y) * ex};
+  for (int i = 0; i < 3; ++i) {
+    e.ties = i + 1;
+    if (sgn(g[i]) != 0) return e;
+  }
+  e.all_zero = true;
+  return e;
+}
+
+// Latency from the accepting clock edge to the edge after which out_valid_o is high
+// (rtl/ru_exact_path.sv's header).
+int latency(const Config& c, const Req& r, const Expect& e) {
+  const int L = (1 << c.f.exp_bits) + c.f.frac_bits - 2, nd = (L + 3 + c.digit - 1) / c.digit;
+  if (r.op == 3) return e.v_zero ? 18 * nd + 69 : 20 * nd + 77;
+  const int n = 9 * nd + 41;
+  if (c.plant == 1) return n + (e.ties ? 1 : 0);  // no tie terms: straight to the end
+  return n + e.ties * (2 * nd + 6) + (e.all_zero ? 1 : 0);
+}
+
+class Gen {
+ public:
+  Gen(const Format& f, uint64_t seed) : f_(f), rng_(seed) {}
+  Req next(int i) {
+    Req r{};
+    const int kind = i % 5;
+    r.op = static_cast<int>(rng_() % 4);
+    for (int k = 0; k < 15; ++k) r.bits[k] = kind == 0 ? random_finite() : kind == 4 ? extreme() : grid(scale_);
+    if (kind == 1 || kind == 2) scale_ = static_cast<int>(rng_() % 3) - 1;
+    if (kind == 2) through_vertex(r);
+    if (kind == 3) {  // d = +-e or in the triangle's plane (V = 0), from a grid
+      const int k = static_cast<int>(rng_() % 3);
+      for (int c = 0; c < 3; ++c) {
+        const double e = value(f_, r.bits[6 + 3 * ((k + 1) % 3) + c]) - value(f_, r.bits[6 + 3 * ((k + 2) % 3) + c]);
+        r.bits[3 + c] = enc(f_, (rng_() & 1) ? e : -e);
+      }
+    }
+    bounds(r);
+    return r;
+  }
+
+ private:
+  uint32_t random_finite() {
+    const uint64_t e = rng_() % f_.exp_field_max();  // 0 .. max-1: finite
+    return static_cast<uint32_t>(((rng_() & 1) ? f_.sign_bit() : 0) | (e << f_.frac_bits) | (rng_() & f_.frac_mask()));
+  }
+  uint32_t extreme() {
+    switch (rng_() % 4) {
+      case 0: return static_cast<uint32_t>(f_.max_finite(rng_() & 1));
+      case 1: return static_cast<uint32_t>((rng_() & 1 ? f_.sign_bit() : 0) | 1);  // smallest subnormal
+      case 2: return static_cast<uint32_t>(f_.min_normal(rng_() & 1));
+      default: return random_finite();
+    }
+  }
+  uint32_t grid(int scale) { return enc(f_, std::ldexp(static_cast<int>(rng_() % 7) - 3, scale)); }
+  // a at a vertex, d along / against / across the requested edge
+  void through_vertex(Req& r) {
+    const int v = static_cast<int>(rng_() % 3);
+    for (int c = 0; c < 3; ++c) r.bits[c] = r.bits[6 + 3 * v + c];
+    const int k = r.op % 3, kind = static_cast<int>(rng_() % 3);
+    for (int c = 0; c < 3 && kind < 2; ++c) {
+      const double e = value(f_, r.bits[6 + 3 * ((k + 1) % 3) + c]) - value(f_, r.bits[6 + 3 * ((k + 2) % 3) + c]);
+      r.bits[3 + c] = enc(f_, kind == 0 ? e : -e);
+    }
+  }
+  // t_min, t_max: random, special, or exactly the hit's t (when the format has it)
+  void bounds(Req& r) {
+    const double inf = std::numeric_limits<double>::infinity();
+    auto pick = [&](bool lower) -> uint32_t {
+      switch (rng_() % 8) {
+        case 0: return enc(f_, lower ? -inf : inf);
+        case 1: return enc(f_, lower ? inf : -inf);
+        case 2: return rng_() % 4 == 0 ? static_cast<uint32_t>(f_.qnan()) : enc(f_, 0.0);
+        case 3:
+        case 4: {
+          const double t = exact_t(r);
+          if (std::isfinite(t)) return enc(f_, t);
+          return random_finite();
+        }
+        default: return random_finite();
+      }
+    };
+    r.bits[15] = pick(true);
+    r.bits[16] = pick(false);
+  }
+  // Va / V rounded to the format when V != 0 (exact when representable)
+  double exact_t(const Req& r) {
+    const Vec3d a = vec3(f_, r.bits), d = vec3(f_, r.bits + 3);
+    const Vec3d p0 = vec3(f_, r.bits + 6), p1 = vec3(f_, r.bits + 9), p2 = vec3(f_, r.bits + 12);
+    const mpq_class e1[3] = {q(p2.x) - q(p0.x), q(p2.y) - q(p0.y), q(p2.z) - q(p0.z)};
+    const mpq_class e0[3] = {q(p1.x) - q(p2.x), q(p1.y) - q(p2.y), q(p1.z) - q(p2.z)};
+    const mpq_class n[3] = {e1[1] * e0[2] - e1[2] * e0[1], e1[2] * e0[0] - e1[0] * e0[2], e1[0] * e0[1] - e1[1] * e0[0]};
+    const mpq_class V = n[0] * q(d.x) + n[1] * q(d.y) + n[2] * q(d.z);
+    if (sgn(V) == 0) return std::numeric_limits<double>::quiet_NaN();
+    const mpq_class Va = n[0] * (q(p2.x) - q(a.x)) + n[1] * (q(p2.y) - q(a.y)) + n[2] * (q(p2.z) - q(a.z));
+    const mpq_class t = Va / V;
+    return value(f_, enc(f_, t.get_d()));
+  }
+  Format f_;
+  std::mt19937_64 rng_;
+  int scale_ = 0;
+};
+
+std::vector<Req> requests(const Format& f, uint64_t seed, int n) {
+  Gen g(f, seed);
+  std::vector<Req> v;
+  for (int i = 0; i < n; ++i) v.push_back(g.next(i));
+  return v;
+}
+
+// The Verilated top and one instance's ports.
+struct Dut {
+  std::unique_ptr<VerilatedContext> ctx = std::make_unique<VerilatedContext>();
+  std::unique_ptr<Vtb_exact_path_top> top = std::make_unique<Vtb_exact_path_top>(ctx.get());
+  struct Ports {
+    CData* in_valid;
+    CData* in_ready;
+    CData* op;
+    VlWide<17>* ops;
+    CData* out_valid;
+    CData* res;
+  };
+  Ports port(int i) {
+    Vtb_exact_path_top& t = *top;
+    const Ports p[kNumConfigs] = {{&t.in_valid_0, &t.in_ready_0, &t.op_0, &t.ops_0, &t.out_valid_0, &t.res_0},
+                                  {&t.in_valid_1, &t.in_ready_1, &t.op_1, &t.ops_1, &t.out_valid_1, &t.res_1},
+                                  {&t.in_valid_2, &t.in_ready_2, &t.op_2, &t.ops_2, &t.out_valid_2, &t.res_2},
+                                  {&t.in_valid_3, &t.in_ready_3, &t.op_3, &t.ops_3, &t.out_valid_3, &t.res_3},
+                                  {&t.in_valid_4, &t.in_ready_4, &t.op_4, &t.ops_4, &t.out_valid_4, &t.res_4},
+                                  {&t.in_valid_5, &t.in_ready_5, &t.op_5, &t.ops_5, &t.out_valid_5, &t.res_5},
+                                  {&t.in_valid_6, &t.in_ready_6, &t.op_6, &t.ops_6, &t.out_valid_6, &t.res_6},
+                                  {&t.in_valid_7, &t.in_ready_7, &t.op_7, &t.ops_7, &t.out_valid_7, &t.res_7}};
+    return p[i];
+  }
+  void tick() {
+    top->clk_i = 0;
+    top->eval();
+    top->clk_i = 1;
+    top->eval();
+  }
+  void reset() {
+    top->rst_ni = 0;
+    tick();
+    top->rst_ni = 1;
+    tick();
+  }
+};
+
+int decode(int op, CData s) {
+  if (op == 3) return s == 1 ? 1 : s == 0 ? 0 : 99;
+  return s == 1 ? 1 : s == 3 ? -1 : s == 0 ? 0 : 99;
+}
+
+struct Tally {
+  long results = 0, errors = 0, latency_errors = 0;
+  long edge_ties = 0, edge_zero = 0, inside = 0, v_zero = 0;
+  std::string first;
+};
+
+// Drives the requests through instance i back to back: the next one is offered while the unit is
+// busy (in_valid_i stays high) and must be taken exactly when in_ready_o is.
+Tally run(Dut& dut, int i, const std::vector<Req>& reqs) {
+  const Config& c = kConfigs[i];
+  Dut::Ports p = dut.port(i);
+  Tally t;
+  size_t next = 0;
+  int busy_for = -1, want = 0;
+  Expect cur{};
+  const Req* cur_req = nullptr;
+  auto fail = [&](const std::string& what) {
+    if (!t.first.empty()) return;
+    t.first = std::string(c.name) + ": " + what;
+    if (cur_req) {
+      t.first += "; op " + std::to_string(cur_req->op) + ", operands";
+      for (uint32_t b : cur_req->bits) t.first += " " + std::to_string(b);
+    }
+  };
+  while (next < reqs.size() || busy_for >= 0) {
+    const bool offer = next < reqs.size();
+    if (offer) {
+      for (int k = 0; k < 17; ++k) (*p.ops)[k] = reqs[next].bits[k];
+      *p.op = static_cast<CData>(reqs[next].op);
+    }
+    *p.in_valid = offer;
+    dut.top->clk_i = 0;
+    dut.top->eval();
+    const bool taken = offer && *p.in_ready;
+    dut.top->clk_i = 1;
+    dut.top->eval();
+    if (busy_for >= 0) ++busy_for;
+    if (*p.out_valid) {
+      if (!cur_req) {
+        ++t.errors;
+        fail("out_valid_o without a request in flight");
+      } else {
+        ++t.results;
+        const int got = decode(cur_req->op, *p.res);
+        if (cur_req->op == 3) {
+          t.inside += cur.res;
+          t.v_zero += cur.v_zero;
+        } else {
+          t.edge_ties += cur.ties > 0;
+          t.edge_zero += cur.res == 0;
+        }
+        if (got != cur.res) {
+          ++t.errors;
+          fail("result " + std::to_string(got) + ", model " + std::to_string(cur.res));
+        }
+        if (busy_for != want) {
+          ++t.latency_errors;
+          fail("latency " + std::to_string(busy_for) + ", expected " + std::to_string(want));
+        }
+      }
+      cur_req = nullptr;
+      busy_for = -1;
+    } else if (busy_for > want + 10) {
+      ++t.latency_errors;
+      fail("no result after " + std::to_string(busy_for) + " cycles");
+      cur_req = nullptr;
+      busy_for = -1;
+    }
+    if (taken) {
+      if (cur_req) {
+        ++t.errors;
+        fail("in_ready_o high while a request is in flight");
+      }
+      cur_req = &reqs[next];
+      cur = expect(c.f, reqs[next]);
+      want = latency(c, reqs[next], cur);
+      busy_for = 0;
+      ++next;
+    }
+  }
+  *p.in_valid = 0;
+  return t;
+}
+
+class ExactPathRtl : public ::testing::TestWithParam<int> {};
+
+TEST_P(ExactPathRtl, ResultsAndLatenciesEqualTheModel) {
+  const Config& c = kConfigs[GetParam()];
+  Dut dut;
+  dut.reset();
+  const int n = 12000;
+  const Tally t = run(dut, GetParam(), requests(c.f, 1234 + GetParam(), n));
+  std::printf("%s: %ld requests; edges: %ld with S = 0, %ld sign 0; intervals: %ld inside, %ld with V = 0\n", c.name,
+              t.results, t.edge_ties, t.edge_zero, t.inside, t.v_zero);
+  EXPECT_EQ(t.results, n);
+  EXPECT_GT(t.edge_ties, n / 20);  // the generator reaches the tie terms,
+  EXPECT_GT(t.edge_zero, n / 50);  // the all-zero case,
+  EXPECT_GT(t.inside, n / 50);     // intervals that hold
+  EXPECT_GT(t.v_zero, n / 50);     // and V = 0
+  EXPECT_EQ(t.errors, 0) << t.first;
+  EXPECT_EQ(t.latency_errors, 0) << t.first;
+}
+INSTANTIATE_TEST_SUITE_P(Configs, ExactPathRtl, ::testing::Values(0, 1, 2, 3, 4), [](const auto& info) {
+  std::string n = kConfigs[info.param].name;
+  for (char& ch : n) ch = std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
+  return n;
+});
+
+// The checker reports planted RTL errors: no tie terms (zeros of S not broken by the ray), one
+// product of the cross product with the wrong sign, an inclusive lower bound of the interval.
+TEST(ExactPathRtlPlanted, PlantedErrorsAreReported) {
+  for (int i : {5, 6, 7}) {
+    Dut dut;
+    dut.reset();
+    const Tally t = run(dut, i, requests(kConfigs[i].f, 99, 2000));
+    std::printf("%s: %ld wrong results, %ld wrong latencies of %ld\n", kConfigs[i].name, t.errors, t.latency_errors,
+                t.results);
+    EXPECT_GT(t.errors, 5) << kConfigs[i].name;
+  }
+}
+
+// A reset while a request is in flight drops it: no result comes out, and the unit takes the next.
+TEST(ExactPathRtl, ResetDropsTheRequestInFlight) {
+  Dut dut;
+  dut.reset();
+  Dut::Ports p = dut.port(0);
+  const std::vector<Req> v = requests(kConfigs[0].f, 7, 2);
+  for (int k = 0; k < 17; ++k) (*p.ops)[k] = v[0].bits[k];
+  *p.op = static_cast<CData>(v[0].op);
+  *p.in_valid = 1;
+  dut.tick();
+  *p.in_valid = 0;
+  for (int k = 0; k < 5; ++k) dut.tick();
+  EXPECT_FALSE(*p.in_ready);
+  dut.reset();
+  EXPECT_TRUE(*p.in_ready);
+  for (int k = 0; k < 300; ++k) {
+    dut.tick();
+    EXPECT_FALSE(*p.out_valid);
+  }
+  const Tally t = run(dut, 0, {v[1]});
+  EXPECT_EQ(t.results, 1);
+  EXPECT_EQ(t.errors + t.latency_errors, 0) << t.first;
+}
+
+}  // namespace
