@@ -29,10 +29,10 @@ struct Counts {
 };
 
 template <class T>
-void run_one(const TriRecord& r, Counts& c) {
+void run_one(const TriRecord& r, const ExactTriOptions& o, Counts& c) {
   const auto a = vcast<T>(r.a), d = vcast<T>(r.d), p0 = vcast<T>(r.p0), p1 = vcast<T>(r.p1), p2 = vcast<T>(r.p2);
   const T tmin = ru::num::fp_cast<T>(r.t_min), tmax = ru::num::fp_cast<T>(r.t_max);
-  const auto e = ray_tri_exact(a, d, p0, p1, p2, tmin, tmax);
+  const auto e = ray_tri_exact(a, d, p0, p1, p2, tmin, tmax, o);
   const auto b = ray_tri_robust(a, d, p0, p1, p2, tmin, tmax);
   ++c.tests;
   c.slow += e.path.slow();
@@ -56,11 +56,16 @@ int run_cmd(int argc, char** argv) {
       "the share of tests the fast (filtered) path decides alone, and the tests whose decision differs from "
       "ray_tri_robust. The last line is 'tests=N slow=S fast_percent=P'.",
       "rayunits study exact-path"};
-  std::string trace_file, format = "e8m23";
+  std::string trace_file, format = "e8m23", filter = "permanent";
   int threads = 2;
   app.add_option("--trace", trace_file, "binary trace (docs/UNITS.md); its tri records are used")->required();
   app.add_option("--format", format, "the format the trace was rendered in (every value must be in it)")
       ->capture_default_str();
+  app.add_option("--filter", filter,
+                 "the fast path's error bound: permanent (2^K times the permanent, computed beside the volume) "
+                 "or exponent (from the factors' largest exponents; cheap hardware, looser)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"permanent", "exponent"}));
   app.add_option("--threads", threads, "worker threads")->capture_default_str()->check(CLI::Range(1, 64));
   if (!parse_args(app, argc, argv)) return 0;
   const Format f = Format::parse(format);
@@ -76,6 +81,8 @@ int run_cmd(int argc, char** argv) {
   }
   const Format f32{8, 23, true, ru::num::Round::RNE}, f64{11, 52, true, ru::num::Round::RNE};
   const int mode = f == f32 ? 1 : f == f64 ? 2 : 0;
+  ExactTriOptions opt;
+  opt.filter = filter == "exponent" ? ExactFilter::Exponent : ExactFilter::Permanent;
   Counts all;
   std::mutex mu;
   const size_t block = 4096, nblocks = (tr.tris.size() + block - 1) / block;
@@ -83,16 +90,16 @@ int run_cmd(int argc, char** argv) {
     ru::num::SoftScope scope(f);
     Counts c;
     for (size_t i = b * block; i < std::min(tr.tris.size(), (b + 1) * block); ++i) {
-      if (mode == 1) run_one<float>(tr.tris[i], c);
-      else if (mode == 2) run_one<double>(tr.tris[i], c);
-      else run_one<ru::num::Soft>(tr.tris[i], c);
+      if (mode == 1) run_one<float>(tr.tris[i], opt, c);
+      else if (mode == 2) run_one<double>(tr.tris[i], opt, c);
+      else run_one<ru::num::Soft>(tr.tris[i], opt, c);
     }
     std::lock_guard<std::mutex> lock(mu);
     all.add(c);
   });
   auto pct = [](uint64_t n, uint64_t d) { return d ? 100.0 * static_cast<double>(n) / static_cast<double>(d) : 0.0; };
-  std::printf("trace %s: %llu ray-triangle tests, format %s\n", trace_file.c_str(),
-              static_cast<unsigned long long>(all.tests), f.name().c_str());
+  std::printf("trace %s: %llu ray-triangle tests, format %s, filter %s\n", trace_file.c_str(),
+              static_cast<unsigned long long>(all.tests), f.name().c_str(), filter.c_str());
   std::printf("exact path taken: %llu tests (%.4f %%): %llu for edge signs (%llu edges), %llu for the interval\n",
               static_cast<unsigned long long>(all.slow), pct(all.slow, all.tests),
               static_cast<unsigned long long>(all.slow_edge), static_cast<unsigned long long>(all.edges_slow),

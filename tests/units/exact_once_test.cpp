@@ -103,13 +103,14 @@ TriExactResult<T> run_exact(const Case& c, const ExactTriOptions& o) {
 }
 
 Tally check_cases(const char* fmt, size_t n, ExactPlant up = ExactPlant::None, OraclePlant op = OraclePlant::None,
-                  int extreme = 0) {
+                  int extreme = 0, ExactFilter filter = ExactFilter::Permanent) {
   const Format f = Format::parse(fmt);
   SoftScope scope(f);
   Rng g(77 + f.frac_bits);
   Tally t;
   ExactTriOptions o;
   o.plant = up;
+  o.filter = filter;
   for (size_t k = 0; k < n; ++k) {
     const Case c = make_case(f, g, extreme);
     const auto r = run_exact<Soft>(c, o);
@@ -188,6 +189,28 @@ TEST(UnitsExactOnce, AgreesWithOracleAtExtremes) {
     std::printf("%s extreme -1, plant NoTinyCheck: %zu mismatches\n", fmt, m);
     planted += m;
   }
+  EXPECT_GT(planted, 0u);
+}
+
+// The exponent-only filter (ExactFilter::Exponent, the cheap one for hardware): the same hits as
+// the oracle on the adversarial pairs and at the extremes (a filter changes only which path
+// decides); with its bound 2^24 too small (ShrunkBound) the checker fails.
+TEST(UnitsExactOnce, ExponentFilterAgreesWithOracle) {
+  for (const char* fmt : {"e5m10", "e6m12", "e7m16", "e8m23", "e11m52", "e5m10-ftz", "e8m23-ftz"}) {
+    for (int ex : {0, -1, 1}) {
+      const Tally t = check_cases(fmt, ex ? 1500 : 3000, ExactPlant::None, OraclePlant::None, ex, ExactFilter::Exponent);
+      std::printf("%s extreme %+d, exponent filter: %zu cases, %zu hits (%zu by the fast path), %zu exact path\n", fmt,
+                  ex, t.cases, t.hits, t.fast_hits, t.slow);
+      EXPECT_EQ(t.mismatches, 0u) << t.first;
+      if (ex == 0) {
+        EXPECT_GT(t.fast_hits, 50u) << fmt << ": the fast path must decide hits";
+      }
+    }
+  }
+  size_t planted = 0;
+  for (const char* fmt : {"e5m10", "e8m23"})
+    planted += check_cases(fmt, 6000, ExactPlant::ShrunkBound, OraclePlant::None, 0, ExactFilter::Exponent).mismatches;
+  std::printf("exponent filter, plant ShrunkBound: %zu mismatches\n", planted);
   EXPECT_GT(planted, 0u);
 }
 

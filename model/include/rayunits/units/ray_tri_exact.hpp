@@ -47,7 +47,10 @@
 // Non-finite operands (INF/NaN in a, d, p0..p2): miss (the exact decision is undefined).
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
+#include <limits>
 
 #include "rayunits/num/fp.hpp"
 #include "rayunits/units/ray_tri.hpp"
@@ -64,8 +67,20 @@ enum class ExactPlant : uint8_t {
   NoTinyCheck,      // underflow not detected (the bound is then unsound for subnormal/flushed results)
 };
 
+// The filter's bound on |fl(V) - V| (both sound; the hit bit does not depend on it, only which
+// path decides): Permanent, 2^K fl(P) with P the permanent computed beside the volume (about 27
+// multiplications and 15 additions per test in hardware); Exponent, 2^K 2^(Es+Ed+Ee+6) from the
+// largest exponents Es, Ed, Ee of the three factor vectors' components (exponent fields only: a
+// subnormal counts as emin, an overestimate; about a dozen small exponent adders and comparators).
+// Sum |s_i d_j e_l| <= 6 max|s| max|d| max|e| <= 6/(1-u)^3 2^(Es+Ed+Ee+3) <= 2^(Es+Ed+Ee+3+g)
+// (a (1-u) for each rounded difference: s = fl(a - m), e = fl(q1 - q2); the interval's V and Va
+// likewise with e1, e0 and d or f = p2 - a; g the smallest with 6/(1-u)^3 <= 2^g: 3 from M = 5 on
+// with round-to-nearest).
+enum class ExactFilter : uint8_t { Permanent, Exponent };
+
 struct ExactTriOptions {
   ExactPlant plant = ExactPlant::None;
+  ExactFilter filter = ExactFilter::Permanent;
 };
 
 // Which path decided (statistics for the cost of the side path).
@@ -156,6 +171,31 @@ Vec3<T> vsub_chk(Checked<T>& c, const Vec3<T>& u, const Vec3<T>& v) {
   return {c.sub(u.x, v.x), c.sub(u.y, v.y), c.sub(u.z, v.z)};
 }
 
+// 2^(Ex+Ey+Ez+3+g) >= sum of |x_i y_j z_l| over the six terms of (x cross y) . z (see ExactFilter),
+// Ev = the largest exponent of v's components (a subnormal counts as emin; a zero vector gives a
+// tiny bound, harmless: its volume is 0 and never certified). A power of two; infinite when it
+// leaves the double range (never certifies).
+inline int exponent_bound_g(double u) {
+  const double c = 6.0 / ((1 - u) * (1 - u) * (1 - u)) * (1 + 0x1p-40);  // 1-u exact (u a power of two)
+  int g = 0;
+  while (std::ldexp(1.0, g) < c) ++g;
+  return g;
+}
+template <class T>
+double exponent_bound(const Vec3<T>& x, const Vec3<T>& y, const Vec3<T>& z, int emin, int g) {
+  auto ex = [&](const Vec3<T>& v) {
+    int e = -100000;
+    for (int k = 0; k < 3; ++k) {
+      const double c = ru::num::fp_to_double(v[k]);
+      if (c != 0) e = std::max(e, std::max(std::ilogb(c), emin));
+    }
+    return e;
+  };
+  const long sum = static_cast<long>(ex(x)) + ex(y) + ex(z) + 3 + g;
+  if (sum > 1023) return std::numeric_limits<double>::infinity();
+  return sum < -1074 ? 0x1p-1074 : std::ldexp(1.0, static_cast<int>(sum));
+}
+
 template <class T>
 int sgn_fp(const T& x) {
   const double v = ru::num::fp_to_double(x);
@@ -179,6 +219,7 @@ TriExactResult<T> ray_tri_exact(const Vec3<T>& a, const Vec3<T>& d, const Vec3<T
   const double u = unit_roundoff(f);
   const int shrink = opt.plant == ExactPlant::ShrunkBound ? 24 : 0;
   const int k7 = bound_exp(f, 7) - shrink, k8 = bound_exp(f, 8) - shrink;
+  const int gx = exponent_bound_g(u);
 
   const Vec3d ad = vdouble(a), dd = vdouble(d), P[3] = {vdouble(p0), vdouble(p1), vdouble(p2)};
   for (const Vec3d* v : {&ad, &dd, &P[0], &P[1], &P[2]})
@@ -202,7 +243,8 @@ TriExactResult<T> ray_tri_exact(const Vec3<T>& a, const Vec3<T>& d, const Vec3<T
     T vol, perm;
     vol_perm(c, s, d, e, vol, perm);
     sign[k] = sgn_fp(vol);
-    const double vd = fp_to_double(vol), pd = fp_to_double(perm);
+    const double vd = fp_to_double(vol),
+                 pd = opt.filter == ExactFilter::Exponent ? exponent_bound(s, d, e, f.emin(), gx) : fp_to_double(perm);
     if (opt.plant == ExactPlant::NoTinyCheck) c.tiny = false;
     certain[k] = opt.plant == ExactPlant::NoExactPath ||
                  (!c.tiny && std::isfinite(vd) && std::isfinite(pd) && abs_greater_scaled(vd, pd, k7));
@@ -250,8 +292,10 @@ TriExactResult<T> ray_tri_exact(const Vec3<T>& a, const Vec3<T>& d, const Vec3<T
   if (opt.plant == ExactPlant::NoExactPath) {
     in = t_min < r.t && r.t < t_max;
   } else if (!c.tiny && !tinyV) {
-    in = fast_interval(fp_to_double(r.t), fp_to_double(V), fp_to_double(PV), k7, fp_to_double(Va),
-                       fp_to_double(Pa), k8, u, minnorm, fp_to_double(t_min), fp_to_double(t_max));
+    const bool ex = opt.filter == ExactFilter::Exponent;
+    in = fast_interval(fp_to_double(r.t), fp_to_double(V), ex ? exponent_bound(e1, e0, d, f.emin(), gx) : fp_to_double(PV),
+                       k7, fp_to_double(Va), ex ? exponent_bound(e1, e0, f2, f.emin(), gx) : fp_to_double(Pa), k8, u,
+                       minnorm, fp_to_double(t_min), fp_to_double(t_max));
   }
   if (in < 0) {
     r.path.slow_interval = true;
