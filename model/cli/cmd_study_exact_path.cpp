@@ -62,10 +62,11 @@ int run_cmd(int argc, char** argv) {
   app.add_option("--format", format, "the format the trace was rendered in (every value must be in it)")
       ->capture_default_str();
   app.add_option("--filter", filter,
-                 "the fast path's error bound: permanent (2^K times the permanent, computed beside the volume) "
-                 "or exponent (from the factors' largest exponents; cheap hardware, looser)")
+                 "the fast path's error bound: permanent (2^K times the permanent, computed beside the volume), "
+                 "permanent-format (the same, the interval's error evaluated in the format with directed rounding "
+                 "as hardware would) or exponent (from the factors' largest exponents; cheap hardware, looser)")
       ->capture_default_str()
-      ->check(CLI::IsMember({"permanent", "exponent"}));
+      ->check(CLI::IsMember({"permanent", "permanent-format", "exponent"}));
   app.add_option("--threads", threads, "worker threads")->capture_default_str()->check(CLI::Range(1, 64));
   if (!parse_args(app, argc, argv)) return 0;
   const Format f = Format::parse(format);
@@ -82,7 +83,9 @@ int run_cmd(int argc, char** argv) {
   const Format f32{8, 23, true, ru::num::Round::RNE}, f64{11, 52, true, ru::num::Round::RNE};
   const int mode = f == f32 ? 1 : f == f64 ? 2 : 0;
   ExactTriOptions opt;
-  opt.filter = filter == "exponent" ? ExactFilter::Exponent : ExactFilter::Permanent;
+  opt.filter = filter == "exponent"           ? ExactFilter::Exponent
+               : filter == "permanent-format" ? ExactFilter::PermanentFormat
+                                              : ExactFilter::Permanent;
   Counts all;
   std::mutex mu;
   const size_t block = 4096, nblocks = (tr.tris.size() + block - 1) / block;

@@ -192,26 +192,31 @@ TEST(UnitsExactOnce, AgreesWithOracleAtExtremes) {
   EXPECT_GT(planted, 0u);
 }
 
-// The exponent-only filter (ExactFilter::Exponent, the cheap one for hardware): the same hits as
-// the oracle on the adversarial pairs and at the extremes (a filter changes only which path
-// decides); with its bound 2^24 too small (ShrunkBound) the checker fails.
-TEST(UnitsExactOnce, ExponentFilterAgreesWithOracle) {
-  for (const char* fmt : {"e5m10", "e6m12", "e7m16", "e8m23", "e11m52", "e5m10-ftz", "e8m23-ftz"}) {
-    for (int ex : {0, -1, 1}) {
-      const Tally t = check_cases(fmt, ex ? 1500 : 3000, ExactPlant::None, OraclePlant::None, ex, ExactFilter::Exponent);
-      std::printf("%s extreme %+d, exponent filter: %zu cases, %zu hits (%zu by the fast path), %zu exact path\n", fmt,
-                  ex, t.cases, t.hits, t.fast_hits, t.slow);
-      EXPECT_EQ(t.mismatches, 0u) << t.first;
-      if (ex == 0) {
-        EXPECT_GT(t.fast_hits, 50u) << fmt << ": the fast path must decide hits";
+// The other filters: Exponent (the error bound from exponent fields, the cheap one for hardware)
+// and PermanentFormat (the interval's error evaluated in the format with directed rounding, the
+// RTL's specification): the same hits as the oracle on the adversarial pairs and at the extremes
+// (a filter changes only which path decides); with the bound 2^24 too small (ShrunkBound) the
+// checker fails.
+TEST(UnitsExactOnce, OtherFiltersAgreeWithOracle) {
+  for (ExactFilter fl : {ExactFilter::Exponent, ExactFilter::PermanentFormat}) {
+    const char* name = fl == ExactFilter::Exponent ? "exponent" : "permanent-format";
+    for (const char* fmt : {"e5m10", "e6m12", "e7m16", "e8m23", "e11m52", "e5m10-ftz", "e8m23-ftz"}) {
+      for (int ex : {0, -1, 1}) {
+        const Tally t = check_cases(fmt, ex ? 1500 : 3000, ExactPlant::None, OraclePlant::None, ex, fl);
+        std::printf("%s extreme %+d, %s filter: %zu cases, %zu hits (%zu by the fast path), %zu exact path\n", fmt,
+                    ex, name, t.cases, t.hits, t.fast_hits, t.slow);
+        EXPECT_EQ(t.mismatches, 0u) << name << ": " << t.first;
+        if (ex == 0) {
+          EXPECT_GT(t.fast_hits, 50u) << fmt << ": the fast path must decide hits";
+        }
       }
     }
+    size_t planted = 0;
+    for (const char* fmt : {"e5m10", "e8m23"})
+      planted += check_cases(fmt, 6000, ExactPlant::ShrunkBound, OraclePlant::None, 0, fl).mismatches;
+    std::printf("%s filter, plant ShrunkBound: %zu mismatches\n", name, planted);
+    EXPECT_GT(planted, 0u) << name;
   }
-  size_t planted = 0;
-  for (const char* fmt : {"e5m10", "e8m23"})
-    planted += check_cases(fmt, 6000, ExactPlant::ShrunkBound, OraclePlant::None, 0, ExactFilter::Exponent).mismatches;
-  std::printf("exponent filter, plant ShrunkBound: %zu mismatches\n", planted);
-  EXPECT_GT(planted, 0u);
 }
 
 // The same checker with each planted error in the unit, or in the oracle, must fail.

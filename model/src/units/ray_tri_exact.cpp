@@ -113,4 +113,53 @@ int fast_interval(double t_fp, double V, double PV, int kV, double Va, double Pa
   return -1;
 }
 
+int fast_interval_format(const ru::num::Format& f, uint64_t t, uint64_t V, uint64_t PV, int kV, uint64_t Va,
+                         uint64_t Pa, int ka, uint64_t t_min, uint64_t t_max) {
+  namespace n = ru::num;
+  using n::Round;
+  n::Format up = f, tz = f;
+  up.round = Round::RUP;
+  tz.round = Round::RTZ;
+  auto val = [&](uint64_t x) { return n::to_double(f, x); };
+  auto finite = [&](uint64_t x) { return std::isfinite(val(x)); };
+  for (uint64_t x : {t, V, PV, Va, Pa})
+    if (!finite(x)) return -1;
+  if (std::isnan(val(t_min)) || std::isnan(val(t_max))) return 0;
+  bool bad = false;  // an upper bound that underflowed or overflowed
+  auto U = [&](n::Result r) {
+    if (r.flags & (n::kUnderflow | n::kOverflow)) bad = true;
+    return r.bits;
+  };
+  auto cst = [&](double x) -> uint64_t {  // a constant of the format (exact, or the filter gives up)
+    const n::Result r = n::from_double(f, x);
+    if (r.flags & n::kInexact) bad = true;
+    return r.bits;
+  };
+  const double u = unit_roundoff(f);
+  const uint64_t aV = n::abs(f, V), at = n::abs(f, t);
+  const uint64_t BV = U(n::mul(up, PV, cst(std::ldexp(1.0, kV)))), Ba = U(n::mul(up, Pa, cst(std::ldexp(1.0, ka))));
+  const uint64_t twoBV = U(n::mul(up, BV, cst(2.0)));
+  if (bad || !n::lt(f, twoBV, aV).bits) return -1;  // rho = BV / |V| < 1/2
+  const uint64_t tq = U(n::mul(up, at, cst(1 + 2 * u)));
+  const uint64_t x = U(n::mul(up, U(n::add(up, Ba, U(n::mul(up, tq, BV)))), cst(2.0)));
+  uint64_t R = U(n::add(up, x, U(n::mul(up, cst(u), U(n::mul(up, tq, aV))))));
+  const double minnorm = n::to_double(f, f.min_normal());
+  if (val(at) < minnorm) R = U(n::add(up, R, U(n::mul(up, cst(minnorm), aV))));
+  if (bad || !finite(R)) return -1;
+  // side of one bound: +1 t above it, -1 below, 0 undecided (diff = t - bound)
+  auto side = [&](uint64_t bound, bool lower) -> int {
+    const double b = val(bound);
+    if (std::isinf(b)) return (b < 0) == lower ? (lower ? 1 : -1) : (lower ? -1 : 1);
+    const uint64_t D = lower ? n::sub(tz, t, bound).bits : n::sub(tz, bound, t).bits;
+    const uint64_t M = n::mul(tz, n::abs(f, D), aV).bits;
+    if (!n::lt(f, R, M).bits) return 0;
+    const bool pos = val(D) > 0;  // lower: t > t_min; upper: t_max > t
+    return lower ? (pos ? 1 : -1) : (pos ? -1 : 1);
+  };
+  const int lo = side(t_min, true), hi = side(t_max, false);  // lo +1: above t_min; hi -1: below t_max
+  if (lo < 0 || hi > 0) return 0;
+  if (lo > 0 && hi < 0) return 1;
+  return -1;
+}
+
 }  // namespace ru::units::exact_detail

@@ -76,7 +76,10 @@ enum class ExactPlant : uint8_t {
 // (a (1-u) for each rounded difference: s = fl(a - m), e = fl(q1 - q2); the interval's V and Va
 // likewise with e1, e0 and d or f = p2 - a; g the smallest with 6/(1-u)^3 <= 2^g: 3 from M = 5 on
 // with round-to-nearest).
-enum class ExactFilter : uint8_t { Permanent, Exponent };
+// PermanentFormat: Permanent's bounds, with the interval test's error evaluated the way hardware
+// can, in the format with directed rounding (exact_detail::fast_interval_format, about a dozen FP
+// operations) instead of in double arithmetic; the specification for the RTL's filter.
+enum class ExactFilter : uint8_t { Permanent, Exponent, PermanentFormat };
 
 struct ExactTriOptions {
   ExactPlant plant = ExactPlant::None;
@@ -112,6 +115,16 @@ bool exact_interval(const Vec3d& a, const Vec3d& d, const Vec3d& p0, const Vec3d
 // The certified-interval test: returns 1 (t in the interval), 0 (not), -1 (undecided).
 int fast_interval(double t_fp, double V, double PV, int kV, double Va, double Pa, int ka, double u,
                   double minnorm, double t_min, double t_max);
+// The same decision as fast_interval from format arithmetic only (f's bit patterns; the values
+// must be finite format values, V's sign certified by the caller's |V| > 2^kV PV test):
+//   R = RUP(2 RUP(Ba + RUP(tq BV)) + RUP(u RUP(tq |V|)) [+ RUP(minnorm |V|) if |t| < minnorm]),
+//   BV = RUP(PV 2^kV), Ba = RUP(Pa 2^ka), tq = RUP(|t| (1 + 2u)), and RUP(2 BV) < |V| required
+//   (rho < 1/2, so 1/(1-rho) < 2): R >= err |V| for fast_interval's err. A side of the interval
+//   is decided when RTZ(RTZ(|t - bound|) |V|) > R (then t is on t_fp's side of that bound);
+//   every RUP operation that underflows (a flush-to-zero format could drop a tiny bound) or
+//   overflows gives "undecided". Returns 1, 0, -1 as fast_interval.
+int fast_interval_format(const ru::num::Format& f, uint64_t t, uint64_t V, uint64_t PV, int kV, uint64_t Va,
+                         uint64_t Pa, int ka, uint64_t t_min, uint64_t t_max);
 double unit_roundoff(const ru::num::Format& f);
 
 template <class T>
@@ -291,6 +304,12 @@ TriExactResult<T> ray_tri_exact(const Vec3<T>& a, const Vec3<T>& d, const Vec3<T
   if (opt.plant == ExactPlant::NoTinyCheck) c.tiny = false;
   if (opt.plant == ExactPlant::NoExactPath) {
     in = t_min < r.t && r.t < t_max;
+  } else if (!c.tiny && !tinyV && opt.filter == ExactFilter::PermanentFormat) {
+    auto bits = [&](const T& x) { return ru::num::from_double(f, fp_to_double(x)).bits; };  // exact
+    in = abs_greater_scaled(fp_to_double(V), fp_to_double(PV), k7)
+             ? fast_interval_format(f, bits(r.t), bits(V), bits(PV), k7, bits(Va), bits(Pa), k8, bits(t_min),
+                                    bits(t_max))
+             : -1;
   } else if (!c.tiny && !tinyV) {
     const bool ex = opt.filter == ExactFilter::Exponent;
     in = fast_interval(fp_to_double(r.t), fp_to_double(V), ex ? exponent_bound(e1, e0, d, f.emin(), gx) : fp_to_double(PV),
