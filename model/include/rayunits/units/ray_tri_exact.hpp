@@ -67,9 +67,9 @@ enum class ExactPlant : uint8_t {
   NoTinyCheck,      // underflow not detected (the bound is then unsound for subnormal/flushed results)
 };
 
-// The filter's bound on |fl(V) - V| (both sound; the hit bit does not depend on it, only which
-// path decides): Permanent, 2^K fl(P) with P the permanent computed beside the volume (about 27
-// multiplications and 15 additions per test in hardware); Exponent, 2^K 2^(Es+Ed+Ee+6) from the
+// The filter's bound on |fl(V) - V| (all three sound; the hit bit does not depend on it, only
+// which path decides): Permanent, 2^K fl(P) with P the permanent computed beside the volume (about
+// 27 multiplications and 15 additions per test in hardware); Exponent, 2^K 2^(Es+Ed+Ee+3+g) from the
 // largest exponents Es, Ed, Ee of the three factor vectors' components (exponent fields only: a
 // subnormal counts as emin, an overestimate; about a dozen small exponent adders and comparators).
 // Sum |s_i d_j e_l| <= 6 max|s| max|d| max|e| <= 6/(1-u)^3 2^(Es+Ed+Ee+3) <= 2^(Es+Ed+Ee+3+g)
