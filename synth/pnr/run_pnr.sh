@@ -392,7 +392,7 @@ cat > "$work/meta.json" <<EOF
   "route_cleanup": $route_cleanup,
   "initial_density": "${density:-unset}",
   "clock_target_mhz": $(awk "BEGIN{printf \"%.1f\", 1000/$clock_ns}"),
-  "command": "synth/pnr/run_pnr.sh --clock-ns $clock_ns$( [ "$gw_fast" = 0 ] || echo " --graywolf-fast $gw_fast")$( [ -z "$density" ] || echo " --density $density")$( [ -z "$source_v" ] || echo " --source-v $source_v") $config",
+  "command": "synth/pnr/run_pnr.sh --clock-ns $clock_ns$( [ "$gw_fast" = 0 ] || echo " --graywolf-fast $gw_fast")$( [ -z "$density" ] || echo " --density $density")$( [ "$route_cleanup" = true ] || echo " --route-no-cleanup")$( [ -z "$source_v" ] || echo " --source-v $source_v") $config",
   "tools": {"qflow": "$(ver qflow)", "yosys": "$(ver yosys)", "graywolf": "$(ver graywolf)",
             "qrouter": "$(ver qrouter)", "magic": "$(ver magic)", "netgen-lvs": "$(ver netgen-lvs)",
             "opensta": "$(ver opensta)", "vesta": "qflow $(ver qflow)"},
