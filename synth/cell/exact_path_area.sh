@@ -7,6 +7,9 @@
 set -eu
 [ $# -ge 3 ] || { echo "usage: $0 EXPW FRACW DIGITW [OUTDIR]" >&2; exit 2; }
 e=$1 m=$2 dw=$3
+case "$e$m$dw" in *[!0-9]*|'') echo "$0: EXPW FRACW DIGITW must be integers (got '$e' '$m' '$dw')" >&2; exit 2 ;; esac
+[ "$e" -ge 2 ] && [ "$e" -le 8 ] && [ "$m" -ge 1 ] && [ "$m" -le 23 ] && [ "$dw" -ge 1 ] ||
+  { echo "$0: ru_exact_path takes EXPW 2..8, FRACW 1..23, DIGITW >= 1 (got $e $m $dw)" >&2; exit 2; }
 here=$(cd "$(dirname "$0")" && pwd)
 out=${4:-$here/../results/cell/exact_path}
 lib=/usr/share/qflow/tech/osu018/osu018_stdcells.lib
