@@ -24,13 +24,24 @@ import os
 import re
 import sys
 
-REPO_RTL = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "rtl")
+REPO = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+REPO_RTL = os.path.join(REPO, "rtl")
 
 
-def unit_genome(d, unit):
-    """(genome, built-in?) from the origin line of the unit's module, (None, False) if none."""
+def registry_tops():
+    """unit name -> its RTL top module, from the registry's JSON (model/data/registry.json)."""
+    with open(os.path.join(REPO, "model", "data", "registry.json")) as f:
+        return {u["name"]: u["top"] for u in json.load(f)["units"]}
+
+
+def unit_genome(d, unit, tops):
+    """(genome, built-in?) from the origin line of the unit's module, (None, False) if none. A
+    built-in unit's module is its registry top; a run-time unit of the search is ru_<unit> (the
+    module name `rayunits search tri` gives it)."""
     for rtl, builtin in ((REPO_RTL, True), (os.path.join(d, "rtl"), False)):
-        path = os.path.join(rtl, "ru_" + unit + ".sv")
+        if builtin and unit not in tops:
+            continue
+        path = os.path.join(rtl, (tops[unit] if builtin else "ru_" + unit) + ".sv")
         if os.path.exists(path):
             for line in open(path):
                 m = re.match(r"// origin: .*genome (\S+)", line)
@@ -43,6 +54,7 @@ def unit_genome(d, unit):
 def synth_table(d, rows, fitness):
     """Markdown lines: cost model vs full synthesis for every synthesized design of DIR."""
     out = []
+    tops = registry_tops()
     found = []  # (file name, synthesis row)
     for path in sorted(glob.glob(os.path.join(d, "synth_*.jsonl"))):
         found += [(os.path.basename(path), json.loads(line)) for line in open(path) if line.strip()]
@@ -52,7 +64,7 @@ def synth_table(d, rows, fitness):
             found.append((os.path.relpath(path, d), ds["synthesis"]))
     for path, s in found:
         unit = s["unit"]
-        genome, builtin = unit_genome(d, unit)
+        genome, builtin = unit_genome(d, unit, tops)
         match = [r for r in rows if r["genome"] == genome or
                  (genome is None and "dp_" + r["genome"].replace("-", "_") == unit)]  # modules emitted before origin lines
         match.sort(key=lambda r: not (builtin and r["role"].startswith("reference:")))  # a hand design's own row first

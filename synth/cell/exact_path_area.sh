@@ -2,7 +2,8 @@
 # Area of ru_exact_path (issue 14's exact side path; not a registry unit yet, so not through
 # `rayunits synth`) with the cell flow's Yosys/ABC steps (model/src/synth/flow.cpp: synth -flatten,
 # dfflibmap, abc -liberty with the flow's untargeted ABC script, stat -liberty), osu018.
-# No STA: the area only. Usage: synth/cell/exact_path_area.sh EXPW FRACW DIGITW [OUTDIR]
+# No STA and no register harness: the area only. The ABC commands below must stay
+# cell_abc_script(0) (test CellFlow.ExactPathAreaScriptUsesTheFlowsAbcScript). Usage: synth/cell/exact_path_area.sh EXPW FRACW DIGITW [OUTDIR]
 # Writes OUTDIR/exact_path_eXmY_dD.txt (Yosys stat -liberty); default OUTDIR synth/results/cell/exact_path.
 set -eu
 [ $# -ge 3 ] || { echo "usage: $0 EXPW FRACW DIGITW [OUTDIR]" >&2; exit 2; }

@@ -96,7 +96,7 @@ while [ $# -gt 0 ]; do
     --no-checks) checks=0; shift ;;
     --route-no-cleanup) route_cleanup=false; shift ;;
     -h|--help) usage; exit 0 ;;
-    --*) die "unknown option $1 (accepted: --clock-ns --work --out --rayunits --step-timeout --nice --redo --until --graywolf-fast --density --archive --restore --source-v --fresh --no-checks --help)" ;;
+    --*) die "unknown option $1 (accepted: --clock-ns --work --out --rayunits --step-timeout --nice --redo --until --graywolf-fast --density --archive --restore --source-v --fresh --no-checks --route-no-cleanup --help)" ;;
     *) break ;;
   esac
 done

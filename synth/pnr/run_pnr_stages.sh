@@ -21,7 +21,7 @@
 # 5. pnr_stages_report.py: OUT/summary.json (sums and the worst stage) and OUT/layout.png.
 #
 # Options (the others are passed to run_pnr.sh for every block: --clock-ns --nice --density
-# --graywolf-fast --step-timeout --no-checks --until --redo --fresh):
+# --graywolf-fast --step-timeout --no-checks --route-no-cleanup --until --redo --fresh):
 #   --jobs N          blocks placed and routed at once (default 2)
 #   --work DIR        work directory (default /tmp/ru-pnr/stages_<unit and args>)
 #   --out DIR         results directory (default synth/results/pnr/<unit>_stages)
@@ -50,11 +50,11 @@ while [ $# -gt 0 ]; do
     --no-equiv) equiv=0; shift ;;
     --cut-only) cut_only=1; shift ;;
     --fresh) fresh=1; pnr_opts+=("$1"); shift ;;
-    --no-checks) pnr_opts+=("$1"); shift ;;
+    --no-checks|--route-no-cleanup) pnr_opts+=("$1"); shift ;;
     --clock-ns|--nice|--density|--graywolf-fast|--step-timeout|--until|--redo)
       [ $# -ge 2 ] || die "$1 needs a value"; pnr_opts+=("$1" "$2"); shift 2 ;;
     -h|--help) usage; exit 0 ;;
-    --*) die "unknown option $1 (accepted: --jobs --work --out --rayunits --no-equiv --cut-only --clock-ns --nice --density --graywolf-fast --step-timeout --until --redo --fresh --no-checks --help)" ;;
+    --*) die "unknown option $1 (accepted: --jobs --work --out --rayunits --no-equiv --cut-only --clock-ns --nice --density --graywolf-fast --step-timeout --until --redo --fresh --no-checks --route-no-cleanup --help)" ;;
     *) break ;;
   esac
 done

@@ -388,6 +388,17 @@ TEST(CellFlowCli, GenAtGivenStagesCountsTheSegments) {
   EXPECT_NE(md.find(" of 2 |"), std::string::npos) << md;
 }
 
+// synth/cell/exact_path_area.sh maps ru_exact_path (not a registry unit yet) with the cell flow's
+// untargeted ABC script written out in shell; it must be cell_abc_script(0), the one the flow runs.
+TEST(CellFlow, ExactPathAreaScriptUsesTheFlowsAbcScript) {
+  const std::string sh = read_file(std::string(RU_SOURCE_DIR) + "/synth/cell/exact_path_area.sh");
+  std::string abc = cell_abc_script(0), escaped;
+  for (char ch : abc) escaped += ch == '\n' ? std::string("\\n") : std::string(1, ch);
+  EXPECT_NE(sh.find("printf '" + escaped + "' > "), std::string::npos)
+      << "the script's ABC commands differ from cell_abc_script(0): " << escaped;
+  EXPECT_NE(abc.find("dnsize"), std::string::npos);
+}
+
 TEST(CellFlowCli, GenUnreachableClockIsOneLine) {
   if (!have_sta() || !have_osu018()) GTEST_SKIP() << "sta or osu018 not installed";
   TempDir t("ru-test-genclk-");
