@@ -113,6 +113,19 @@ int fast_interval(double t_fp, double V, double PV, int kV, double Va, double Pa
   return -1;
 }
 
+bool certified(const ru::num::Format& f, uint64_t v, uint64_t p, int k) {
+  const int fb = f.frac_bits, emax_field = (1 << f.exp_bits) - 1;
+  const uint64_t fmask = (uint64_t{1} << fb) - 1;
+  const int ev = static_cast<int>((v >> fb) & static_cast<uint64_t>(emax_field)),
+            ep = static_cast<int>((p >> fb) & static_cast<uint64_t>(emax_field));
+  if (ev == 0 || ev == emax_field) return false;                 // v zero, subnormal, INF or NaN
+  if (ep == emax_field || (ep == 0 && (p & fmask) != 0)) return false;  // p subnormal, INF or NaN
+  if (ep == 0) return true;                                      // p = 0, v normal
+  const int de = ev - ep;                                        // |v| > 2^k |p|: exponents, then fractions
+  if (de != k) return de > k;
+  return (v & fmask) > (p & fmask);
+}
+
 int fast_interval_format(const ru::num::Format& f, uint64_t t, uint64_t V, uint64_t PV, int kV, uint64_t Va,
                          uint64_t Pa, int ka, uint64_t t_min, uint64_t t_max) {
   namespace n = ru::num;
@@ -130,21 +143,22 @@ int fast_interval_format(const ru::num::Format& f, uint64_t t, uint64_t V, uint6
     if (r.flags & (n::kUnderflow | n::kOverflow)) bad = true;
     return r.bits;
   };
-  auto cst = [&](double x) -> uint64_t {  // a constant of the format (exact, or the filter gives up)
-    const n::Result r = n::from_double(f, x);
-    if (r.flags & n::kInexact) bad = true;
+  const double minnorm = n::to_double(f, f.min_normal());
+  const uint64_t aV = n::abs(f, V), at = n::abs(f, t);
+  if (val(at) < minnorm) return -1;  // t zero or subnormal: its division error is absolute; give up
+  auto S = [&](uint64_t x, int k) {  // scale2
+    const n::Result r = scale2(f, x, k);
+    if (r.flags) bad = true;
     return r.bits;
   };
-  const double u = unit_roundoff(f);
-  const uint64_t aV = n::abs(f, V), at = n::abs(f, t);
-  const uint64_t BV = U(n::mul(up, PV, cst(std::ldexp(1.0, kV)))), Ba = U(n::mul(up, Pa, cst(std::ldexp(1.0, ka))));
-  const uint64_t twoBV = U(n::mul(up, BV, cst(2.0)));
+  const int lu = f.round == Round::RNE ? -(f.frac_bits + 1) : -f.frac_bits;  // u = 2^lu
+  const uint64_t BV = S(PV, kV), Ba = S(Pa, ka);
+  const uint64_t twoBV = S(BV, 1);
   if (bad || !n::lt(f, twoBV, aV).bits) return -1;  // rho = BV / |V| < 1/2
-  const uint64_t tq = U(n::mul(up, at, cst(1 + 2 * u)));
-  const uint64_t x = U(n::mul(up, U(n::add(up, Ba, U(n::mul(up, tq, BV)))), cst(2.0)));
-  uint64_t R = U(n::add(up, x, U(n::mul(up, cst(u), U(n::mul(up, tq, aV))))));
-  const double minnorm = n::to_double(f, f.min_normal());
-  if (val(at) < minnorm) R = U(n::add(up, R, U(n::mul(up, cst(minnorm), aV))));
+  const uint64_t one2u = n::from_double(f, 1 + std::ldexp(2.0, lu)).bits;  // 1 + 2u (exact for M >= 1)
+  const uint64_t tq = U(n::mul(up, at, one2u));
+  const uint64_t x = S(U(n::add(up, Ba, U(n::mul(up, tq, BV)))), 1);
+  const uint64_t R = U(n::add(up, x, S(U(n::mul(up, tq, aV)), lu)));
   if (bad || !finite(R)) return -1;
   // side of one bound: +1 t above it, -1 below, 0 undecided (diff = t - bound)
   auto side = [&](uint64_t bound, bool lower) -> int {
@@ -160,6 +174,16 @@ int fast_interval_format(const ru::num::Format& f, uint64_t t, uint64_t V, uint6
   if (lo < 0 || hi > 0) return 0;
   if (lo > 0 && hi < 0) return 1;
   return -1;
+}
+
+ru::num::Result scale2(const ru::num::Format& f, uint64_t x, int k) {
+  const int fb = f.frac_bits, emax_field = (1 << f.exp_bits) - 1;
+  const uint64_t fmask = (uint64_t{1} << fb) - 1;
+  const int e = static_cast<int>((x >> fb) & static_cast<uint64_t>(emax_field));
+  if (e == 0 && (x & fmask) == 0) return {x, 0};                    // +-0
+  const int e2 = e + k;
+  if (e == 0 || e == emax_field || e2 < 1 || e2 >= emax_field) return {x, ru::num::kInvalid};  // gives up
+  return {(x & ~(static_cast<uint64_t>(emax_field) << fb)) | (static_cast<uint64_t>(e2) << fb), 0};
 }
 
 }  // namespace ru::units::exact_detail

@@ -20,18 +20,20 @@
 // Filtered predicate (the fast path, what the pipeline computes every cycle):
 //   V_k (the unit's rounded volume) and its permanent P_k = the same expression with every
 //   operand replaced by its absolute value and every subtraction in the cross product and the
-//   dot product by an addition (same rounding, same order). Each of the six terms
-//   +-s_i d_j e_l of V_k passes through at most n = 7 roundings (a - m, e, product, cross
-//   subtraction, product, two additions), so, without underflow or overflow,
+//   dot product by an addition (same rounding, same order; the cross product's six products are
+//   shared: |fl(x y)| in place of fl(|x||y|)). Each of the six terms +-s_i d_j e_l of V_k passes
+//   through at most n = 7 roundings (a - m, e, product, cross subtraction, product, two
+//   additions), so, without underflow or overflow,
 //       |fl(V_k) - V_k| <= ((1+u)^7 - 1) sum|s_i d_j e_l| <= ((1+u)^7 - 1)/(1-u)^7 * fl(P_k)
 //   (fl(P_k) has at most 7 roundings per term too, all of positive terms, so
 //   fl(P_k) >= (1-u)^7 sum|s_i d_j e_l|), u = 2^-(M+1) for RNE, 2^-M for directed modes.
 //   The constant is rounded up to a power of two 2^K (K = -M+2 for RNE at M >= 6), so the test
-//       |fl(V_k)| > 2^K fl(P_k)           (an exponent-shifted comparison, exact)
-//   certifies sign(V_k) = sign(fl(V_k)). Underflow is excluded conservatively: any operation
-//   whose rounded result is subnormal, or zero although the exact result is not (a product of
-//   non-zero factors, a difference of unequal values), sends the edge to the exact path;
-//   overflow/NaN does too (fl(V_k), fl(P_k) must be finite). Edges are only sent to the exact
+//       |fl(V_k)| > 2^K fl(P_k)           (an exponent-shifted comparison, exact: certified())
+//   certifies sign(V_k) = sign(fl(V_k)). Underflow is excluded: an operation of the volume or of
+//   its permanent that raises the underflow flag (an inexact tiny result, or a flushed one in
+//   -ftz formats) sends the edge to the exact path (exact results, even subnormal ones, carry no
+//   error); overflow/NaN does too (fl(V_k), fl(P_k) must be finite, and normal: certified()
+//   gives up on subnormal ones). Edges are only sent to the exact
 //   path when the certified ones do not already decide a miss (one certified +, one certified -).
 //   The interval test t_min < t < t_max uses the unit's t = fl(Va/V) with a proven absolute
 //   bound (V: n = 7, Va: n = 8 roundings per term, the same permanent argument, plus the division):
@@ -51,6 +53,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 
 #include "rayunits/num/fp.hpp"
 #include "rayunits/units/ray_tri.hpp"
@@ -104,6 +107,11 @@ namespace exact_detail {
 int bound_exp(const ru::num::Format& f, int n);
 // |v| > 2^k * p exactly, for finite doubles p >= 0 (v any finite double).
 bool abs_greater_scaled(double v, double p, int k);
+// The certification |v| > 2^k p of the RTL's filter on bit patterns of format f: false when v is
+// zero, subnormal or not finite, or p is subnormal or not finite (the filter gives up: the exact
+// path decides); p = 0 and v normal: true; both normal: the exponent-shifted comparison, exact
+// (abs_greater_scaled on the same values).
+bool certified(const ru::num::Format& f, uint64_t v, uint64_t p, int k);
 // Exact sign of the perturbed edge quantity ((a(eps) - m) x d) . e, e = q1 - q2 (doubles: the
 // format values, exactly). plant VertexOrderTie: the zero case uses e oriented lexmin -> lexmax.
 int exact_edge_sign(const Vec3d& a, const Vec3d& d, const Vec3d& m, const Vec3d& q1, const Vec3d& q2,
@@ -116,15 +124,20 @@ bool exact_interval(const Vec3d& a, const Vec3d& d, const Vec3d& p0, const Vec3d
 int fast_interval(double t_fp, double V, double PV, int kV, double Va, double Pa, int ka, double u,
                   double minnorm, double t_min, double t_max);
 // The same decision as fast_interval from format arithmetic only (f's bit patterns; the values
-// must be finite format values, V's sign certified by the caller's |V| > 2^kV PV test):
-//   R = RUP(2 RUP(Ba + RUP(tq BV)) + RUP(u RUP(tq |V|)) [+ RUP(minnorm |V|) if |t| < minnorm]),
-//   BV = RUP(PV 2^kV), Ba = RUP(Pa 2^ka), tq = RUP(|t| (1 + 2u)), and RUP(2 BV) < |V| required
-//   (rho < 1/2, so 1/(1-rho) < 2): R >= err |V| for fast_interval's err. A side of the interval
-//   is decided when RTZ(RTZ(|t - bound|) |V|) > R (then t is on t_fp's side of that bound);
-//   every RUP operation that underflows (a flush-to-zero format could drop a tiny bound) or
-//   overflows gives "undecided". Returns 1, 0, -1 as fast_interval.
+// must be finite format values, V's sign certified by the caller's certified(V, PV, kV)), the
+// specification of ru_ray_tri_exact's interval filter:
+//   R = RUP(2 RUP(Ba + RUP(tq BV)) + u RUP(tq |V|)),  BV = PV 2^kV, Ba = Pa 2^ka, tq = RUP(|t| (1+2u)),
+//   and 2 BV < |V| required (rho < 1/2, so 1/(1-rho) < 2): R >= err |V| for fast_interval's err
+//   (the minnorm term is not needed: |t| < minnorm gives up). A side of the interval is decided
+//   when RTZ(RTZ(|t - bound|) |V|) > R (then t is on t_fp's side of that bound). The products by
+//   powers of two (2^kV, 2^ka, 2, u) are scale2 (an exponent addition); every RUP operation that
+//   underflows or overflows, and every scale2 that gives up, gives "undecided". Returns 1, 0, -1
+//   as fast_interval.
 int fast_interval_format(const ru::num::Format& f, uint64_t t, uint64_t V, uint64_t PV, int kV, uint64_t Va,
                          uint64_t Pa, int ka, uint64_t t_min, uint64_t t_max);
+// x 2^k by an exponent addition: exact for +-0 and for a normal x with a normal result; otherwise
+// (x subnormal, INF or NaN, or the result outside the normal range) flags != 0: the filter gives up.
+ru::num::Result scale2(const ru::num::Format& f, uint64_t x, int k);
 double unit_roundoff(const ru::num::Format& f);
 
 template <class T>
@@ -133,50 +146,49 @@ bool fin(const T& x) {
   return std::isfinite(v);
 }
 
-// Tiny-result detection (conservative underflow flag): subnormal result, or zero result although
-// the exact one is not.
+// Tiny-result detection: the underflow flag (tiny after rounding and inexact, docs/FORMAT.md) of
+// an operation, ORed over every operation of a volume and of its permanent. An exact result, even
+// a subnormal one, has no rounding error and does not need the flag; an inexact tiny result (or a
+// flushed one in an -ftz format) has an absolute, not a relative, error and sets it. In hardware
+// this is the OR of the FP units' flags_o[1] (ru_ray_tri_exact).
 template <class T>
 struct Checked {
   bool tiny = false;
-  double minnorm;
-  explicit Checked(double mn) : minnorm(mn) {}
-  void look(double z, bool exact_zero) {
-    if (z == 0) {
-      if (!exact_zero) tiny = true;
-    } else if (std::fabs(z) < minnorm) {
-      tiny = true;
+  T mul(T x, T y) { return op(x, y, 2); }
+  T sub(T x, T y) { return op(x, y, 1); }
+  T add(T x, T y) { return op(x, y, 0); }
+
+ private:
+  T op(T x, T y, int which) {
+    if constexpr (std::is_same_v<T, ru::num::Soft>) {
+      const uint64_t before = ru::num::soft_stats().underflow;
+      const T z = which == 2 ? x * y : which == 1 ? x - y : x + y;
+      if (ru::num::soft_stats().underflow != before) tiny = true;
+      return z;
+    } else {  // native arithmetic; its flag from the bit-exact format model of the same format
+      const ru::num::Format f = ru::num::fp_format<T>();
+      const uint64_t a = ru::num::fp_bits(x), b = ru::num::fp_bits(y);
+      const ru::num::Result r =
+          which == 2 ? ru::num::mul(f, a, b) : which == 1 ? ru::num::sub(f, a, b) : ru::num::add(f, a, b);
+      if (r.flags & ru::num::kUnderflow) tiny = true;
+      return which == 2 ? x * y : which == 1 ? x - y : x + y;
     }
-  }
-  T mul(T x, T y) {
-    const T z = x * y;
-    const double xd = ru::num::fp_to_double(x), yd = ru::num::fp_to_double(y);
-    look(ru::num::fp_to_double(z), xd == 0 || yd == 0);
-    return z;
-  }
-  T sub(T x, T y) {
-    const T z = x - y;
-    look(ru::num::fp_to_double(z), ru::num::fp_to_double(x) == ru::num::fp_to_double(y));
-    return z;
-  }
-  T add(T x, T y) {
-    const T z = x + y;
-    look(ru::num::fp_to_double(z), ru::num::fp_to_double(x) == -ru::num::fp_to_double(y));
-    return z;
   }
 };
 
-// dot(cross(u, w), z) with the order of vec.hpp, and its permanent
-// (|u.y||w.z| + |u.z||w.y|) |z.x| + ... (same order, additions).
+// dot(cross(u, w), z) with the order of vec.hpp, and its permanent, every operation checked:
+// the cross product's six products l_i = u_j w_k, r_i = u_k w_j are shared (|fl(l_i)| in place of
+// fl(|u_j||w_k|): the same relative error bound in every rounding mode, and no second set of
+// multipliers in hardware), pc_i = |l_i| + |r_i|, perm = (pc.x |z.x| + pc.y |z.y|) + pc.z |z.z|.
 template <class T>
 void vol_perm(Checked<T>& c, const Vec3<T>& u, const Vec3<T>& w, const Vec3<T>& z, T& vol, T& perm) {
   using ru::num::fp_abs;
-  const Vec3<T> cr{c.sub(c.mul(u.y, w.z), c.mul(u.z, w.y)), c.sub(c.mul(u.z, w.x), c.mul(u.x, w.z)),
-                   c.sub(c.mul(u.x, w.y), c.mul(u.y, w.x))};
+  const Vec3<T> l{c.mul(u.y, w.z), c.mul(u.z, w.x), c.mul(u.x, w.y)};
+  const Vec3<T> r{c.mul(u.z, w.y), c.mul(u.x, w.z), c.mul(u.y, w.x)};
+  const Vec3<T> cr{c.sub(l.x, r.x), c.sub(l.y, r.y), c.sub(l.z, r.z)};
   vol = c.add(c.add(c.mul(cr.x, z.x), c.mul(cr.y, z.y)), c.mul(cr.z, z.z));
-  const Vec3<T> au{fp_abs(u.x), fp_abs(u.y), fp_abs(u.z)}, aw{fp_abs(w.x), fp_abs(w.y), fp_abs(w.z)},
-      az{fp_abs(z.x), fp_abs(z.y), fp_abs(z.z)};
-  const Vec3<T> pc{au.y * aw.z + au.z * aw.y, au.z * aw.x + au.x * aw.z, au.x * aw.y + au.y * aw.x};
-  perm = (pc.x * az.x + pc.y * az.y) + pc.z * az.z;
+  const Vec3<T> pc{c.add(fp_abs(l.x), fp_abs(r.x)), c.add(fp_abs(l.y), fp_abs(r.y)), c.add(fp_abs(l.z), fp_abs(r.z))};
+  perm = c.add(c.add(c.mul(pc.x, fp_abs(z.x)), c.mul(pc.y, fp_abs(z.y))), c.mul(pc.z, fp_abs(z.z)));
 }
 
 template <class T>
@@ -250,17 +262,21 @@ TriExactResult<T> ray_tri_exact(const Vec3<T>& a, const Vec3<T>& d, const Vec3<T
     const Vec3<T>& q1 = *pv[(k + 1) % 3];
     const Vec3<T>& q2 = *pv[(k + 2) % 3];
     const Vec3<T>& m = lex_first_is_min(q1, q2) ? q1 : q2;
-    Checked<T> c(minnorm);
+    Checked<T> c;
     const Vec3<T> e = vsub_chk(c, q1, q2);
     const Vec3<T> s = vsub_chk(c, a, m);
     T vol, perm;
     vol_perm(c, s, d, e, vol, perm);
     sign[k] = sgn_fp(vol);
-    const double vd = fp_to_double(vol),
-                 pd = opt.filter == ExactFilter::Exponent ? exponent_bound(s, d, e, f.emin(), gx) : fp_to_double(perm);
     if (opt.plant == ExactPlant::NoTinyCheck) c.tiny = false;
-    certain[k] = opt.plant == ExactPlant::NoExactPath ||
-                 (!c.tiny && std::isfinite(vd) && std::isfinite(pd) && abs_greater_scaled(vd, pd, k7));
+    bool cert;
+    if (opt.filter == ExactFilter::Exponent) {
+      const double vd = fp_to_double(vol), pd = exponent_bound(s, d, e, f.emin(), gx);
+      cert = std::isfinite(vd) && std::isfinite(pd) && abs_greater_scaled(vd, pd, k7);
+    } else {
+      cert = certified(f, fp_bits(vol), fp_bits(perm), k7);
+    }
+    certain[k] = opt.plant == ExactPlant::NoExactPath || (!c.tiny && cert);
   }
   auto decided_mixed = [&] {
     bool pos = false, neg = false;
@@ -293,7 +309,7 @@ TriExactResult<T> ray_tri_exact(const Vec3<T>& a, const Vec3<T>& d, const Vec3<T
     return r;
   }
   // Interval: V and Va recomputed with the same operations (bit-identical to r.V, r.Va).
-  Checked<T> c(minnorm);
+  Checked<T> c;
   const Vec3<T> e0 = vsub_chk(c, p1, p2), e1 = vsub_chk(c, p2, p0);
   T V, PV, Va, Pa;
   vol_perm(c, e1, e0, d, V, PV);
@@ -306,7 +322,7 @@ TriExactResult<T> ray_tri_exact(const Vec3<T>& a, const Vec3<T>& d, const Vec3<T
     in = t_min < r.t && r.t < t_max;
   } else if (!c.tiny && !tinyV && opt.filter == ExactFilter::PermanentFormat) {
     auto bits = [&](const T& x) { return ru::num::from_double(f, fp_to_double(x)).bits; };  // exact
-    in = abs_greater_scaled(fp_to_double(V), fp_to_double(PV), k7)
+    in = certified(f, fp_bits(V), fp_bits(PV), k7)
              ? fast_interval_format(f, bits(r.t), bits(V), bits(PV), k7, bits(Va), bits(Pa), k8, bits(t_min),
                                     bits(t_max))
              : -1;
