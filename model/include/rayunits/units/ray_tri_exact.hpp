@@ -92,6 +92,7 @@ struct ExactTriOptions {
 // Which path decided (statistics for the cost of the side path).
 struct ExactPathInfo {
   uint8_t slow_edges = 0;      // edges whose sign came from the exact path (0..3)
+  uint8_t edge_mask = 0;       // which ones (bit k: edge k), asked in the order 0, 1, 2
   bool slow_interval = false;  // the interval test came from the exact path
   bool slow() const { return slow_edges != 0 || slow_interval; }
 };
@@ -293,6 +294,7 @@ TriExactResult<T> ray_tri_exact(const Vec3<T>& a, const Vec3<T>& d, const Vec3<T
       sign[k] = exact_edge_sign(ad, dd, m, q1, q2, opt.plant == ExactPlant::VertexOrderTie);
       certain[k] = true;
       ++r.path.slow_edges;
+      r.path.edge_mask |= static_cast<uint8_t>(1u << k);
       if (decided_mixed()) break;
     }
   }

@@ -1,0 +1,15 @@
+ru_pipe_pkg.sv
+ru_fp_pkg.sv
+ru_pipe.sv
+ru_lzc.sv
+ru_fp_classify.sv
+ru_fp_normalize.sv
+ru_fp_round_pack.sv
+ru_umul.sv
+ru_fp_add.sv
+ru_fp_mul.sv
+ru_fp_div.sv
+ru_fp_cmp.sv
+ru_fp_dot3_core.sv
+ru_exact_path.sv
+ru_ray_tri_exact.sv
