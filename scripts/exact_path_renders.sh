@@ -4,10 +4,10 @@
 # ray_tri_robust, `render --tri robust`), and the trace is replayed by `study exact-path`.
 #   scripts/exact_path_renders.sh [SIZE] [FILTERS]   (bunny/dragon need libcgal-demo data: install-deps.sh --long)
 # FILTERS: the fast path's error bounds to compare, comma-separated (study exact-path --filter;
-# default permanent; e.g. permanent,exponent).
+# default permanent-format, the RTL's; e.g. permanent,permanent-format,exponent).
 set -euo pipefail
 size=${1:-128}
-filters=${2:-permanent}
+filters=${2:-permanent-format}
 here=$(cd "$(dirname "$0")/.." && pwd)
 ru=${RU:-$here/build/model/cli/rayunits}
 tmp=$(mktemp -d)

@@ -56,7 +56,7 @@ int run_cmd(int argc, char** argv) {
       "the share of tests the fast (filtered) path decides alone, and the tests whose decision differs from "
       "ray_tri_robust. The last line is 'tests=N slow=S fast_percent=P'.",
       "rayunits study exact-path"};
-  std::string trace_file, format = "e8m23", filter = "permanent";
+  std::string trace_file, format = "e8m23", filter = "permanent-format";
   int threads = 2;
   app.add_option("--trace", trace_file, "binary trace (docs/UNITS.md); its tri records are used")->required();
   app.add_option("--format", format, "the format the trace was rendered in (every value must be in it)")
@@ -64,7 +64,7 @@ int run_cmd(int argc, char** argv) {
   app.add_option("--filter", filter,
                  "the fast path's error bound: permanent (2^K times the permanent, computed beside the volume), "
                  "permanent-format (the same, the interval's error evaluated in the format with directed rounding "
-                 "as hardware would) or exponent (from the factors' largest exponents; cheap hardware, looser)")
+                 "as ru_ray_tri_exact does; the default) or exponent (from the factors' largest exponents; cheap hardware, looser)")
       ->capture_default_str()
       ->check(CLI::IsMember({"permanent", "permanent-format", "exponent"}));
   app.add_option("--threads", threads, "worker threads")->capture_default_str()->check(CLI::Range(1, 64));

@@ -71,8 +71,8 @@ enum class ExactPlant : uint8_t {
 };
 
 // The filter's bound on |fl(V) - V| (all three sound; the hit bit does not depend on it, only
-// which path decides): Permanent, 2^K fl(P) with P the permanent computed beside the volume (about
-// 27 multiplications and 15 additions per test in hardware); Exponent, 2^K 2^(Es+Ed+Ee+3+g) from the
+// which path decides): Permanent, 2^K fl(P) with P the permanent computed beside the volume (15
+// multiplications and 22 additions per test in hardware, the cross products' products shared); Exponent, 2^K 2^(Es+Ed+Ee+3+g) from the
 // largest exponents Es, Ed, Ee of the three factor vectors' components (exponent fields only: a
 // subnormal counts as emin, an overestimate; about a dozen small exponent adders and comparators).
 // Sum |s_i d_j e_l| <= 6 max|s| max|d| max|e| <= 6/(1-u)^3 2^(Es+Ed+Ee+3) <= 2^(Es+Ed+Ee+3+g)
@@ -81,12 +81,13 @@ enum class ExactPlant : uint8_t {
 // with round-to-nearest).
 // PermanentFormat: Permanent's bounds, with the interval test's error evaluated the way hardware
 // can, in the format with directed rounding (exact_detail::fast_interval_format, about a dozen FP
-// operations) instead of in double arithmetic; the specification for the RTL's filter.
+// operations) instead of in double arithmetic; the specification of the RTL's filter
+// (ru_ray_tri_exact) and the default.
 enum class ExactFilter : uint8_t { Permanent, Exponent, PermanentFormat };
 
 struct ExactTriOptions {
   ExactPlant plant = ExactPlant::None;
-  ExactFilter filter = ExactFilter::Permanent;
+  ExactFilter filter = ExactFilter::PermanentFormat;  // the RTL's (ru_ray_tri_exact)
 };
 
 // Which path decided (statistics for the cost of the side path).
