@@ -28,7 +28,7 @@
 //      L7 mul   tq = RUP(|t| (1 + 2u)); D_lo = RTZ(t - t_min), D_hi = RTZ(t_max - t)
 //      L8 mul   RUP(tq BV), RUP(tq |V|), RTZ(|D_lo| |V|), RTZ(|D_hi| |V|)
 //      L9 add   RUP(Ba + tq BV)
-//      L10 add  R = RUP(2 (..) + u RUP(tq |V|))
+//      L10 add  R = RUP(2 (..) + u RUP(tq |V|)) (for |t| < minnorm: + 2 minnorm |V|)
 //      L11 cmp  R < RTZ(|D| |V|) for each bound; then the decision
 //    An edge is certified when no operation of its volume/permanent underflowed and
 //    |V_k| > 2^K7 P_k; the interval when V is certified and R decides both bounds.
@@ -105,6 +105,8 @@ module ru_ray_tri_exact #(
   endfunction
   localparam integer K7 = kbound(Q, 7) - ((Plant == 1) ? 8 : 0);
   localparam integer K8 = kbound(Q, 8);
+  localparam integer BiasI = (1 << (ExpW - 1)) - 1;
+  localparam integer EMinP1 = 2 - BiasI;  // emin + 1
   localparam logic [W-1:0] One2u = {1'b0, ExpW'(Bias), FracW'(1) << (FracW - Q + 1)};  // 1 + 2u
   if (Q < 2) begin : gen_q_check
     $error("ru_ray_tri_exact: FracW %0d too small for Round %0d", FracW, Round);
@@ -155,7 +157,7 @@ module ru_ray_tri_exact #(
       ru_fp_pkg::KCmp, ru_fp_pkg::KAdd, ru_fp_pkg::KAdd, ru_fp_pkg::KMul, ru_fp_pkg::KMul, ru_fp_pkg::KDiv,
       ru_fp_pkg::KAdd, ru_fp_pkg::KAdd, ru_fp_pkg::KMul, ru_fp_pkg::KAdd, ru_fp_pkg::KMul, ru_fp_pkg::KAdd};
   `include "ru_level_chain.svh"
-  logic [20:0] unused_dly_valid;
+  logic [23:0] unused_dly_valid;
 
   // ---- flow control: accept ------------------------------------------------------------------------
   localparam int unsigned Cap = Stages + 1 + Slack;
@@ -381,6 +383,9 @@ module ru_ray_tri_exact #(
     .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[10]), .data_i({aV6, BV6}), .data_o({aV8, BV8}));
   ru_pipe #(.Width(W), .Depth(span(6, 9))) u_wait6_9 (
     .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[11]), .data_i(Ba6), .data_o(Ba9));
+  logic [W-1:0] aV10;
+  ru_pipe #(.Width(W), .Depth(span(8, 10))) u_wait8_10 (
+    .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[23]), .data_i(aV8), .data_o(aV10));
   logic [11:0] info6, info_end;
   assign info6 = {pos6, neg6, cert6, ivok6, nonfin6, bad6};
   ru_pipe #(.Width(12), .Depth(span(6, NLev))) u_wait6_end (
@@ -400,14 +405,19 @@ module ru_ray_tri_exact #(
   ru_fp_add #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(7)), .Subnormals(Subnormals), .Round(1)) u_dhi (
     .clk_i, .rst_ni, .in_valid_i(v6[0]), .a_i(tmax7), .b_i(q_t), .op_i(1'b1), .out_valid_o(v7[2]), .y_o(dhi8),
     .flags_o(fdhi));
-  // t non-finite or below the normal range (zero, subnormal); bounds' classes
-  logic [5:0] info7, info7_end;
-  assign info7 = {f_nonfin(q_t) | (q_t[W-2:FracW] == '0),
-                  f_nan(tmin7) | f_nan(tmax7),
+  // the bounds' classes; t below the normal range (zero or subnormal: z = 2 minnorm |V| in L10)
+  logic [4:0] info7, info7_end;
+  assign info7 = {f_nan(tmin7) | f_nan(tmax7),
                   f_nonfin(tmin7) & ~f_nan(tmin7), tmin7[W-1],
                   f_nonfin(tmax7) & ~f_nan(tmax7), tmax7[W-1]};
-  ru_pipe #(.Width(6), .Depth(span(7, NLev))) u_wait7_end (
+  ru_pipe #(.Width(5), .Depth(span(7, NLev))) u_wait7_end (
     .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[13]), .data_i(info7), .data_o(info7_end));
+  logic ttiny7, ttiny9, ttiny10;
+  assign ttiny7 = q_t[W-2:FracW] == '0;
+  ru_pipe #(.Width(1), .Depth(span(7, 9))) u_wait7_tiny (
+    .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[21]), .data_i(ttiny7), .data_o(ttiny9));
+  ru_pipe #(.Width(1), .Depth(lat(9))) u_wait9_tiny (
+    .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[22]), .data_i(ttiny9), .data_o(ttiny10));
   logic [3*W-1:0] tbg_end;
   ru_pipe #(.Width(3 * W), .Depth(span(7, NLev))) u_wait7_tbg (
     .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[14]), .data_i({q_t, q_beta, q_gamma}),
@@ -452,14 +462,14 @@ module ru_ray_tri_exact #(
     .clk_i, .rst_ni, .in_valid_i(v8[0]), .a_i(Ba9), .b_i(m1_9), .op_i(1'b0), .out_valid_o(v9), .y_o(s1_10),
     .flags_o(fs1));
   logic bad9, bad9_end;
-  assign bad9 = fm1[1] | fm1[2] | fm2[1] | fm2[2];
+  assign bad9 = fm1[1] | fm1[2] | ((fm2[1] | fm2[2]) & ~ttiny9);  // tq |V| unused for a tiny t
   ru_pipe #(.Width(1), .Depth(span(9, NLev))) u_wait9_end (
     .clk_i, .rst_ni, .valid_i(1'b0), .valid_o(unused_dly_valid[18]), .data_i(bad9), .data_o(bad9_end));
 
-  // ---- L10: R = 2 (Ba + tq BV) + u tq |V| ----------------------------------------------------------
+  // ---- L10: R = 2 (Ba + tq BV) + z, z = u tq |V| (tiny t: 2 minnorm |V|) ---------------------------
   logic [W:0]   sx, sy;
   assign sx = f_s2(s1_10, 1);
-  assign sy = f_s2(m2_10, -Q);
+  assign sy = ttiny10 ? f_s2(aV10, EMinP1) : f_s2(m2_10, -Q);
   logic [W-1:0] r11;
   logic [4:0]   fr;
   logic         v10;
@@ -494,10 +504,10 @@ module ru_ray_tri_exact #(
   logic          in_dec, in_val;
   always_comb begin : p_fast
     logic [2:0] pos, neg, cert;
-    logic ivok, nonfin5, bad_s2, t_bad, nanb, inf_lo, neg_lo, inf_hi, neg_hi, dlo_pos, dhi_pos, bad_tq;
+    logic ivok, nonfin5, bad_s2, nanb, inf_lo, neg_lo, inf_hi, neg_hi, dlo_pos, dhi_pos, bad_tq;
     logic lo_p, lo_n, hi_p, hi_n;
     {pos, neg, cert, ivok, nonfin5, bad_s2} = info_end;
-    {t_bad, nanb, inf_lo, neg_lo, inf_hi, neg_hi} = info7_end;
+    {nanb, inf_lo, neg_lo, inf_hi, neg_hi} = info7_end;
     {dlo_pos, dhi_pos, bad_tq} = info8_end;
     // sides: lo_p t above t_min, lo_n below; hi_n t below t_max, hi_p above
     lo_p = inf_lo ? neg_lo : (ylo[0] & dlo_pos);
@@ -510,7 +520,7 @@ module ru_ray_tri_exact #(
       in_dec = 1'b0;
     end else if (nanb) begin
       in_dec = 1'b1;
-    end else if (!(t_bad || bad_s2 || bad_tq || bad9_end || bad10_end || bad11_end)) begin
+    end else if (!(bad_s2 || bad_tq || bad9_end || bad10_end || bad11_end)) begin
       if (lo_n || hi_p) in_dec = 1'b1;
       else if (lo_p && hi_n) begin
         in_dec = 1'b1;

@@ -145,7 +145,7 @@ int fast_interval_format(const ru::num::Format& f, uint64_t t, uint64_t V, uint6
   };
   const double minnorm = n::to_double(f, f.min_normal());
   const uint64_t aV = n::abs(f, V), at = n::abs(f, t);
-  if (val(at) < minnorm) return -1;  // t zero or subnormal: its division error is absolute; give up
+  const bool t_tiny = val(at) < minnorm;  // t zero or subnormal: the division's error is absolute
   auto S = [&](uint64_t x, int k) {  // scale2
     const n::Result r = scale2(f, x, k);
     if (r.flags) bad = true;
@@ -158,7 +158,9 @@ int fast_interval_format(const ru::num::Format& f, uint64_t t, uint64_t V, uint6
   const uint64_t one2u = n::from_double(f, 1 + std::ldexp(2.0, lu)).bits;  // 1 + 2u (exact for M >= 1)
   const uint64_t tq = U(n::mul(up, at, one2u));
   const uint64_t x = S(U(n::add(up, Ba, U(n::mul(up, tq, BV)))), 1);
-  const uint64_t R = U(n::add(up, x, S(U(n::mul(up, tq, aV)), lu)));
+  // u tq |V|, or for a tiny t 2 minnorm |V| >= u tq |V| + minnorm |V| (tq <= 2 minnorm, u <= 1/2)
+  const uint64_t z = t_tiny ? S(aV, f.emin() + 1) : S(U(n::mul(up, tq, aV)), lu);
+  const uint64_t R = U(n::add(up, x, z));
   if (bad || !finite(R)) return -1;
   // side of one bound: +1 t above it, -1 below, 0 undecided (diff = t - bound)
   auto side = [&](uint64_t bound, bool lower) -> int {

@@ -128,11 +128,12 @@ int fast_interval(double t_fp, double V, double PV, int kV, double Va, double Pa
 // The same decision as fast_interval from format arithmetic only (f's bit patterns; the values
 // must be finite format values, V's sign certified by the caller's certified(V, PV, kV)), the
 // specification of ru_ray_tri_exact's interval filter:
-//   R = RUP(2 RUP(Ba + RUP(tq BV)) + u RUP(tq |V|)),  BV = PV 2^kV, Ba = Pa 2^ka, tq = RUP(|t| (1+2u)),
-//   and 2 BV < |V| required (rho < 1/2, so 1/(1-rho) < 2): R >= err |V| for fast_interval's err
-//   (the minnorm term is not needed: |t| < minnorm gives up). A side of the interval is decided
+//   R = RUP(2 RUP(Ba + RUP(tq BV)) + z),  z = u RUP(tq |V|), or 2 minnorm |V| when |t| < minnorm
+//   (z >= u tq |V| + minnorm |V| then: the division's absolute error), BV = PV 2^kV, Ba = Pa 2^ka,
+//   tq = RUP(|t| (1+2u)), and 2 BV < |V| required (rho < 1/2, so 1/(1-rho) < 2): R >= err |V|
+//   for fast_interval's err. A side of the interval is decided
 //   when RTZ(RTZ(|t - bound|) |V|) > R (then t is on t_fp's side of that bound). The products by
-//   powers of two (2^kV, 2^ka, 2, u) are scale2 (an exponent addition); every RUP operation that
+//   powers of two (2^kV, 2^ka, 2, u, 2 minnorm) are scale2 (an exponent addition); every RUP operation that
 //   underflows or overflows, and every scale2 that gives up, gives "undecided". Returns 1, 0, -1
 //   as fast_interval.
 int fast_interval_format(const ru::num::Format& f, uint64_t t, uint64_t V, uint64_t PV, int kV, uint64_t Va,
