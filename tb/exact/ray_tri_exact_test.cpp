@@ -381,7 +381,7 @@ TEST(RU_SUITE(Top), ListsTheseConfigurations) {
 
 TEST(RU_SUITE(), EveryResultAndCycleEqualsTheModel) {
 #ifdef RU_TB_EXACT_LONG
-  const int def = 20000;
+  const int def = 5000;
 #else
   const int def = 4000;
 #endif
@@ -392,8 +392,8 @@ TEST(RU_SUITE(), EveryResultAndCycleEqualsTheModel) {
     std::printf("%-28s %5ld tests, %4ld took the side path, %4ld hits, max latency %ld cycles: %ld wrong results, %ld "
                 "timing errors\n",
                 kConfigs[i].name, ti.outputs, ti.slow, ti.hits, ti.max_latency, ti.result_errors, ti.timing_errors);
-    EXPECT_EQ(ti.outputs, n) << kConfigs[i].name;
     if (kConfigs[i].plant == 0) {
+      EXPECT_EQ(ti.outputs, n) << kConfigs[i].name;
       EXPECT_EQ(ti.result_errors + ti.timing_errors, 0) << ti.first;
       EXPECT_GE(ti.slow, n / 10) << kConfigs[i].name << ": too few tests reach the side path";
       EXPECT_GE(static_cast<double>(ti.outputs - ti.slow), kConfigs[i].min_fast * n)
