@@ -96,12 +96,24 @@ module ru_ray_tri_exact #(
   localparam int unsigned Bias = (1 << (ExpW - 1)) - 1;
 
   // ---- filter constants (exact_detail::bound_exp, unit_roundoff) ---------------------------------
-  // u = 2^-Q; K7, K8: the smallest K with ((1+u)^n - 1)/(1-u)^n <= 2^K for n = 7, 8 (a wrong
-  // constant changes which tests the fast path decides, which the cycle-exact test sees).
+  // u = 2^-Q; K7, K8: the smallest K with ((1+u)^n - 1)/(1-u)^n <= 2^K for n = 7, 8
+  // (exact_detail::bound_exp), derived here from the same inequality in integers:
+  // (2^q + 1)^n - 2^(qn) <= 2^K (2^q - 1)^n (a wrong constant changes which tests the fast path
+  // decides, which the cycle-exact test sees).
   localparam integer Q = (Round == 0) ? FracW + 1 : FracW;
   function automatic integer kbound(input integer q, input integer n);
-    if (n == 7) kbound = (q >= 7) ? 3 - q : (q == 6) ? -2 : (q == 5) ? -1 : (q == 4) ? 0 : (q == 3) ? 2 : 5;
-    else kbound = (q >= 5) ? 4 - q : (q == 4) ? 1 : (q == 3) ? 3 : 6;
+    logic [383:0] a, b, lhs;
+    integer i, k;
+    a = 384'd1;
+    b = 384'd1;
+    for (i = 0; i < n; i = i + 1) begin
+      a = a * ((384'd1 << q) + 384'd1);
+      b = b * ((384'd1 << q) - 384'd1);
+    end
+    lhs = a - (384'd1 << (q * n));
+    for (k = -q - 8; k < 64 && ((k >= 0) ? (lhs > (b << k)) : ((lhs << (-k)) > b)); k = k + 1) begin
+    end
+    kbound = k;
   endfunction
   localparam integer K7 = kbound(Q, 7) - ((Plant == 1) ? 8 : 0);
   localparam integer K8 = kbound(Q, 8);

@@ -182,6 +182,19 @@ Tally run(Dut& dut, int i, const std::vector<Req>& reqs) {
   return t;
 }
 
+// kConfigs restates tb_exact_path_top.sv's instances: kept in step by this test.
+TEST(ExactPathRtlTop, ListsTheseConfigurations) {
+  std::vector<std::string> want;
+  for (int i = 0; i < kNumConfigs; ++i) {
+    const Config& c = kConfigs[i];
+    want.push_back("tb_exact_path_cfg #(.ExpW(" + std::to_string(c.f.exp_bits) + "), .FracW(" +
+                   std::to_string(c.f.frac_bits) + "), .Subnormals(" + (c.f.subnormals ? "1" : "0") +
+                   "), .DigitW(" + std::to_string(c.digit) + "), .Plant(" + std::to_string(c.plant) + ")) u" +
+                   std::to_string(i) + " (");
+  }
+  EXPECT_EQ(missing_instances(std::string(RU_TB_EXACT_DIR) + "/tb_exact_path_top.sv", want), "");
+}
+
 class ExactPathRtl : public ::testing::TestWithParam<int> {};
 
 TEST_P(ExactPathRtl, ResultsAndLatenciesEqualTheModel) {

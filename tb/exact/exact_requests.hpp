@@ -7,6 +7,9 @@
 
 #include <cmath>
 #include <cstdint>
+#include <fstream>
+#include <sstream>
+#include <string>
 #include <limits>
 #include <random>
 #include <vector>
@@ -176,6 +179,24 @@ inline std::vector<Req> requests(const Format& f, uint64_t seed, int n) {
   std::vector<Req> v;
   for (int i = 0; i < n; ++i) v.push_back(g.next(i));
   return v;
+}
+
+// The instances of a Verilated top, in order: "" when every expected instance line is in the
+// file (dir/file) after the one before, else what is missing. The tests' configuration lists
+// restate the tops' parameters; this keeps the two in step.
+inline std::string missing_instances(const std::string& path, const std::vector<std::string>& lines) {
+  std::ifstream in(path);
+  if (!in) return path + " not found";
+  std::stringstream ss;
+  ss << in.rdbuf();
+  const std::string s = ss.str();
+  size_t pos = 0;
+  for (const std::string& l : lines) {
+    const size_t at = s.find(l, pos);
+    if (at == std::string::npos) return "not found in order: " + l;
+    pos = at;
+  }
+  return "";
 }
 
 }  // namespace ru::tb_exact

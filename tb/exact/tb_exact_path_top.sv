@@ -51,21 +51,21 @@ module tb_exact_path_top (
 );
   // e5m10 D16, e8m23 D32, e3m2 D4, e6m12 D8, e4m3-ftz D8; e5m10 planted 1 (no tie terms),
   // 2 (one product's sign), 3 (inclusive lower bound)
-  tb_exact_path_cfg #(.ExpW(5), .FracW(10), .DigitW(16)) u0 (.clk_i, .rst_ni, .in_valid_i(in_valid_0),
+  tb_exact_path_cfg #(.ExpW(5), .FracW(10), .Subnormals(1), .DigitW(16), .Plant(0)) u0 (.clk_i, .rst_ni, .in_valid_i(in_valid_0),
     .in_ready_o(in_ready_0), .op_i(op_0), .ops_i(ops_0), .out_valid_o(out_valid_0), .res_o(res_0));
-  tb_exact_path_cfg #(.ExpW(8), .FracW(23), .DigitW(32)) u1 (.clk_i, .rst_ni, .in_valid_i(in_valid_1),
+  tb_exact_path_cfg #(.ExpW(8), .FracW(23), .Subnormals(1), .DigitW(32), .Plant(0)) u1 (.clk_i, .rst_ni, .in_valid_i(in_valid_1),
     .in_ready_o(in_ready_1), .op_i(op_1), .ops_i(ops_1), .out_valid_o(out_valid_1), .res_o(res_1));
-  tb_exact_path_cfg #(.ExpW(3), .FracW(2), .DigitW(4)) u2 (.clk_i, .rst_ni, .in_valid_i(in_valid_2),
+  tb_exact_path_cfg #(.ExpW(3), .FracW(2), .Subnormals(1), .DigitW(4), .Plant(0)) u2 (.clk_i, .rst_ni, .in_valid_i(in_valid_2),
     .in_ready_o(in_ready_2), .op_i(op_2), .ops_i(ops_2), .out_valid_o(out_valid_2), .res_o(res_2));
-  tb_exact_path_cfg #(.ExpW(6), .FracW(12), .DigitW(8)) u3 (.clk_i, .rst_ni, .in_valid_i(in_valid_3),
+  tb_exact_path_cfg #(.ExpW(6), .FracW(12), .Subnormals(1), .DigitW(8), .Plant(0)) u3 (.clk_i, .rst_ni, .in_valid_i(in_valid_3),
     .in_ready_o(in_ready_3), .op_i(op_3), .ops_i(ops_3), .out_valid_o(out_valid_3), .res_o(res_3));
-  tb_exact_path_cfg #(.ExpW(4), .FracW(3), .Subnormals(0), .DigitW(8)) u4 (.clk_i, .rst_ni,
+  tb_exact_path_cfg #(.ExpW(4), .FracW(3), .Subnormals(0), .DigitW(8), .Plant(0)) u4 (.clk_i, .rst_ni,
     .in_valid_i(in_valid_4), .in_ready_o(in_ready_4), .op_i(op_4), .ops_i(ops_4), .out_valid_o(out_valid_4),
     .res_o(res_4));
-  tb_exact_path_cfg #(.ExpW(5), .FracW(10), .DigitW(16), .Plant(1)) u5 (.clk_i, .rst_ni, .in_valid_i(in_valid_5),
+  tb_exact_path_cfg #(.ExpW(5), .FracW(10), .Subnormals(1), .DigitW(16), .Plant(1)) u5 (.clk_i, .rst_ni, .in_valid_i(in_valid_5),
     .in_ready_o(in_ready_5), .op_i(op_5), .ops_i(ops_5), .out_valid_o(out_valid_5), .res_o(res_5));
-  tb_exact_path_cfg #(.ExpW(5), .FracW(10), .DigitW(16), .Plant(2)) u6 (.clk_i, .rst_ni, .in_valid_i(in_valid_6),
+  tb_exact_path_cfg #(.ExpW(5), .FracW(10), .Subnormals(1), .DigitW(16), .Plant(2)) u6 (.clk_i, .rst_ni, .in_valid_i(in_valid_6),
     .in_ready_o(in_ready_6), .op_i(op_6), .ops_i(ops_6), .out_valid_o(out_valid_6), .res_o(res_6));
-  tb_exact_path_cfg #(.ExpW(5), .FracW(10), .DigitW(16), .Plant(3)) u7 (.clk_i, .rst_ni, .in_valid_i(in_valid_7),
+  tb_exact_path_cfg #(.ExpW(5), .FracW(10), .Subnormals(1), .DigitW(16), .Plant(3)) u7 (.clk_i, .rst_ni, .in_valid_i(in_valid_7),
     .in_ready_o(in_ready_7), .op_i(op_7), .ops_i(ops_7), .out_valid_o(out_valid_7), .res_o(res_7));
 endmodule
