@@ -160,6 +160,12 @@ def make_runs():
     ends("ray_tri_robust", "e8m23", 29, split=True)
     # the one-reciprocal robust variant (issue 14 section 3) beside the literal one and MT
     ends("ray_tri_robust", "e8m23", 0, split=True, params={"OptRecip": 1})
+    # the exactly-once unit (issue 14 section 1: fast pipeline, filter, order buffer, exact side
+    # path) beside ru_ray_tri_robust at equal Stages; not at Stages 0 (Yosys/ABC ran out of 22 GB
+    # on its one combinational cone)
+    ends("ray_tri_exact", "e5m10", 6, split=True)
+    ends("ray_tri_robust", "e5m10", 6, split=True)
+    ends("ray_tri_exact", "e8m23", 29, split=True)
     ends("ray_box", "e7m16", 0)
     ends("ray_tri_mt", "e7m16", 0, split=True)
     ends("ray_tri_robust", "e7m16", 0, split=True)

@@ -11,11 +11,11 @@
 #include <sstream>
 #include <string>
 #include <limits>
-#include <random>
 #include <vector>
 
 #include "rayunits/num/format.hpp"
 #include "rayunits/units/ray_tri_exact.hpp"
+#include "rayunits/units/ray_tri_exact_gen.hpp"
 #include "rayunits/units/vec.hpp"
 
 namespace ru::tb_exact {
@@ -23,19 +23,13 @@ namespace ru::tb_exact {
 using ru::num::Format;
 using ru::units::Vec3d;
 
-// One request: op (0..2 edge k, 3 interval) and 17 operand bit patterns (a, d, p0, p1, p2; x, y,
-// z each; t_min, t_max).
-struct Req {
-  int op;
-  uint32_t bits[17];
-};
+// One request: op (0..2 edge k, 3 interval) and 17 operand bit patterns; the generator is the
+// unit registry's (units::ExactTriGen).
+using Req = ru::units::ExactTriRecord;
+using Gen = ru::units::ExactTriGen;
 
-// The value of a bit pattern as the unit reads it (flush-to-zero: a subnormal reads as zero).
-inline double value(const Format& f, uint32_t b) {
-  if (!f.subnormals && ((b >> f.frac_bits) & f.exp_field_max()) == 0) return 0.0;
-  return ru::num::to_double(f, b);
-}
-inline Vec3d vec3(const Format& f, const uint32_t* b) { return {value(f, b[0]), value(f, b[1]), value(f, b[2])}; }
+inline double value(const Format& f, uint32_t b) { return ru::units::exact_gen_value(f, b); }
+inline Vec3d vec3(const Format& f, const uint32_t* b) { return ru::units::exact_gen_vec3(f, b); }
 inline uint32_t enc(const Format& f, double x) { return static_cast<uint32_t>(ru::num::from_double(f, x).bits); }
 
 struct Expect {
@@ -90,89 +84,6 @@ inline int latency(const Format& f, int digit, bool no_ties, const Req& r, const
   if (no_ties) return n + (e.ties ? 1 : 0);
   return n + e.ties * (2 * nd + 6) + (e.all_zero ? 1 : 0);
 }
-
-class Gen {
- public:
-  Gen(const Format& f, uint64_t seed) : f_(f), rng_(seed) {}
-  Req next(int i) {
-    Req r{};
-    const int kind = i % 5;
-    r.op = static_cast<int>(rng_() % 4);
-    for (int k = 0; k < 15; ++k) r.bits[k] = kind == 0 ? random_finite() : kind == 4 ? extreme() : grid(scale_);
-    if (kind == 1 || kind == 2) scale_ = static_cast<int>(rng_() % 3) - 1;
-    if (kind == 2) through_vertex(r);
-    if (kind == 3) {  // d = +-e or in the triangle's plane (V = 0), from a grid
-      const int k = static_cast<int>(rng_() % 3);
-      for (int c = 0; c < 3; ++c) {
-        const double e = value(f_, r.bits[6 + 3 * ((k + 1) % 3) + c]) - value(f_, r.bits[6 + 3 * ((k + 2) % 3) + c]);
-        r.bits[3 + c] = enc(f_, (rng_() & 1) ? e : -e);
-      }
-    }
-    bounds(r);
-    return r;
-  }
-
- private:
-  uint32_t random_finite() {
-    const uint64_t e = rng_() % f_.exp_field_max();  // 0 .. max-1: finite
-    return static_cast<uint32_t>(((rng_() & 1) ? f_.sign_bit() : 0) | (e << f_.frac_bits) | (rng_() & f_.frac_mask()));
-  }
-  uint32_t extreme() {
-    switch (rng_() % 4) {
-      case 0: return static_cast<uint32_t>(f_.max_finite(rng_() & 1));
-      case 1: return static_cast<uint32_t>((rng_() & 1 ? f_.sign_bit() : 0) | 1);  // smallest subnormal
-      case 2: return static_cast<uint32_t>(f_.min_normal(rng_() & 1));
-      default: return random_finite();
-    }
-  }
-  uint32_t grid(int scale) { return enc(f_, std::ldexp(static_cast<int>(rng_() % 7) - 3, scale)); }
-  // a at a vertex, d along / against / across the requested edge
-  void through_vertex(Req& r) {
-    const int v = static_cast<int>(rng_() % 3);
-    for (int c = 0; c < 3; ++c) r.bits[c] = r.bits[6 + 3 * v + c];
-    const int k = r.op % 3, kind = static_cast<int>(rng_() % 3);
-    for (int c = 0; c < 3 && kind < 2; ++c) {
-      const double e = value(f_, r.bits[6 + 3 * ((k + 1) % 3) + c]) - value(f_, r.bits[6 + 3 * ((k + 2) % 3) + c]);
-      r.bits[3 + c] = enc(f_, kind == 0 ? e : -e);
-    }
-  }
-  // t_min, t_max: random, special, or exactly the hit's t (when the format has it)
-  void bounds(Req& r) {
-    const double inf = std::numeric_limits<double>::infinity();
-    auto pick = [&](bool lower) -> uint32_t {
-      switch (rng_() % 8) {
-        case 0: return enc(f_, lower ? -inf : inf);
-        case 1: return enc(f_, lower ? inf : -inf);
-        case 2: return rng_() % 4 == 0 ? static_cast<uint32_t>(f_.qnan()) : enc(f_, 0.0);
-        case 3:
-        case 4: {
-          const double t = exact_t(r);
-          if (std::isfinite(t)) return enc(f_, t);
-          return random_finite();
-        }
-        default: return random_finite();
-      }
-    };
-    r.bits[15] = pick(true);
-    r.bits[16] = pick(false);
-  }
-  // Va / V rounded to the format when V != 0 (exact when representable)
-  double exact_t(const Req& r) {
-    const Vec3d a = vec3(f_, r.bits), d = vec3(f_, r.bits + 3);
-    const Vec3d p0 = vec3(f_, r.bits + 6), p1 = vec3(f_, r.bits + 9), p2 = vec3(f_, r.bits + 12);
-    const mpq_class e1[3] = {q(p2.x) - q(p0.x), q(p2.y) - q(p0.y), q(p2.z) - q(p0.z)};
-    const mpq_class e0[3] = {q(p1.x) - q(p2.x), q(p1.y) - q(p2.y), q(p1.z) - q(p2.z)};
-    const mpq_class n[3] = {e1[1] * e0[2] - e1[2] * e0[1], e1[2] * e0[0] - e1[0] * e0[2], e1[0] * e0[1] - e1[1] * e0[0]};
-    const mpq_class V = n[0] * q(d.x) + n[1] * q(d.y) + n[2] * q(d.z);
-    if (sgn(V) == 0) return std::numeric_limits<double>::quiet_NaN();
-    const mpq_class Va = n[0] * (q(p2.x) - q(a.x)) + n[1] * (q(p2.y) - q(a.y)) + n[2] * (q(p2.z) - q(a.z));
-    const mpq_class t = Va / V;
-    return value(f_, enc(f_, t.get_d()));
-  }
-  Format f_;
-  std::mt19937_64 rng_;
-  int scale_ = 0;
-};
 
 inline std::vector<Req> requests(const Format& f, uint64_t seed, int n) {
   Gen g(f, seed);

@@ -126,7 +126,7 @@ class Runner {
     std::deque<Record>& replay = sb_.dropped();
     // Initial reset: 2..4 cycles (X-initialized registers must be cleared by it).
     int initial_reset = 2 + static_cast<int>(sb_.junk().below(3));
-    uint64_t drain = 0;
+    uint64_t drain = 0, quiet = 0;  // cycles since the last input; of them with nothing in flight
     bool exhausted = false;
     size_t next_forced = 0;
     std::vector<uint64_t> forced = o_.reset_at;
@@ -152,9 +152,10 @@ class Runner {
       } else {
         Record in;
         const bool issued = a == kValid && fetch(in);
-        if (issued) drain = 0;
+        if (issued) drain = quiet = 0;
         if (!issued && a == kValid) exhausted = replay.empty();  // fetch() failed: nothing left
         sb_.cycle(t, issued ? &in : nullptr);
+        if (issued && !sb_.accepted()) replay.push_front(in);  // refused (in_ready_o = 0): offer it again
       }
       if (st.errors.size() >= static_cast<size_t>(o_.max_errors)) {
         st.aborted = true;
@@ -162,7 +163,13 @@ class Runner {
       }
       if (t >= o_.stop_after_cycle) break;
       if (exhausted && replay.empty()) {
-        if (++drain > static_cast<uint64_t>(sb_.latency()) + 1) break;
+        // a handshake unit: until every result is out (bounded), then Stages + 1 quiet cycles
+        if (sb_.handshake() && sb_.busy()) {
+          if (++drain > sb_.drain_limit() + 1) break;
+          quiet = 0;
+        } else if (++quiet > static_cast<uint64_t>(sb_.latency()) + 1) {
+          break;
+        }
       }
       if (o_.progress && (t & 0xffff) == 0) {
         const auto now = std::chrono::steady_clock::now();
@@ -174,6 +181,7 @@ class Runner {
         }
       }
     }
+    if (o_.check && !st.aborted && o_.stop_after_cycle == ~0ull) sb_.finish(st.cycles);
     if (tracing) dut_.trace_close();
     st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     st.cpu_seconds = thread_cpu() - c0;
@@ -226,6 +234,28 @@ Scoreboard::Scoreboard(Dut& dut, UnitAdapter& ad, const RunOptions& o)
   out_valid_ = pm.get("out_valid_o");
   ad_.bind(pm);
   ring_.resize(static_cast<size_t>(latency_) + 1);
+  handshake_ = pm.has("in_ready_o");
+  if (handshake_) {
+    in_ready_ = pm.get("in_ready_o");
+    if (o.timing && o.check) timing_ = o.timing(o);
+  }
+}
+
+uint64_t Scoreboard::drain_limit() const {
+  if (!handshake_) return static_cast<uint64_t>(latency_);
+  return o_.max_latency > 0 ? static_cast<uint64_t>(o_.max_latency) : 1000000;
+}
+
+void Scoreboard::finish(uint64_t t) {
+  // Results that never came (a handshake unit stuck past the drain): each is a missing result.
+  while (!fifo_.empty() && st_.errors.size() < static_cast<size_t>(o_.max_errors)) {
+    const Slot s = fifo_.front();
+    fifo_.pop_front();
+    --in_flight_;
+    ++st_.checked;
+    report(t, s, Mismatch::MissingValid, 0, nullptr,
+           "the run ended " + std::to_string(t - s.cycle) + " cycles after this input was accepted, without its result");
+  }
 }
 
 void Scoreboard::advance_to(uint64_t t) {
@@ -264,6 +294,14 @@ void Scoreboard::reset(uint64_t t, bool initial) {
       --in_flight_;
     }
   }
+  for (const Slot& s : fifo_) {
+    replay_.push_back(s.in);
+    ++st_.dropped;
+    --in_flight_;
+  }
+  fifo_.clear();
+  if (timing_) timing_->reset();
+  accepted_ = false;
   edge(t);
   clk_.set(1);
   dut_.eval();
@@ -273,6 +311,42 @@ void Scoreboard::reset(uint64_t t, bool initial) {
 bool Scoreboard::cycle(uint64_t t, const Record* in, const Record* exp) {
   advance_to(t);
   const size_t errors = st_.errors.size();
+  if (handshake_) {
+    rst_.set(1);
+    if (in) {
+      in_valid_.set(1);
+      ad_.drive(*in);
+    } else {
+      in_valid_.set(0);
+      drive_junk();
+    }
+    edge(t);
+    const bool ready = in_ready_.get() != 0;
+    accepted_ = in && ready;
+    if (accepted_) {
+      if (o_.check) {
+        Slot a;
+        a.valid = true;
+        a.item = static_cast<int64_t>(st_.issued);
+        a.cycle = t;
+        a.in = *in;
+        if (exp)
+          a.exp = *exp;
+        else
+          ad_.model(a.in, a.exp);
+        if (a.item == o_.inject.flip_item) a.exp.v[o_.inject.flip_field] ^= 1ull << o_.inject.flip_bit;
+        fifo_.push_back(a);
+        ++in_flight_;
+      }
+      ++st_.issued;
+    }
+    if (o_.check) check_handshake(t, ready, accepted_ ? in : nullptr);
+    clk_.set(1);
+    dut_.eval();
+    if (tracing_ && t >= o_.trace_from) dut_.trace_dump(10 * t + 5);
+    return st_.errors.size() == errors;
+  }
+  accepted_ = in != nullptr;
   Slot& s = ring_[t % ring_.size()];
   if (s.valid) throw std::logic_error("ru::tb::Scoreboard: a result slot was not retired");
   rst_.set(1);
@@ -326,34 +400,97 @@ void Scoreboard::check(uint64_t t) {
   if (diff) report(t, s, Mismatch::Data, diff, &act_);
 }
 
+void Scoreboard::check_handshake(uint64_t t, bool ready, const Record* accepted) {
+  const bool dv = out_valid_.get() != 0;
+  const Slot none{};
+  bool reported = false;
+  if (timing_) {
+    const bool want_ready = timing_->ready();
+    const bool want_out = timing_->step(t, accepted);
+    if (dv && !want_out) {
+      report(t, none, Mismatch::UnexpectedValid, 0, nullptr, "out_valid_o = 1, but the timing reference has no result in this cycle");
+      reported = true;
+    } else if (!dv && want_out) {
+      report(t, fifo_.empty() ? none : fifo_.front(), Mismatch::MissingValid, 0, nullptr,
+             "out_valid_o = 0, but the timing reference has the result of this input leave now");
+      reported = true;
+    }
+    if (ready != want_ready && !reported)  // one report per cycle (max_errors counts cycles)
+      report(t, none, Mismatch::Ready, 0, nullptr,
+             "in_ready_o = " + std::to_string(ready ? 1 : 0) + ", the timing reference expects " +
+                 std::to_string(want_ready ? 1 : 0));
+  }
+  if (!dv) {
+    if (!fifo_.empty() && o_.max_latency > 0 && t - fifo_.front().cycle > static_cast<uint64_t>(o_.max_latency)) {
+      const Slot s = fifo_.front();
+      fifo_.pop_front();
+      --in_flight_;
+      ++st_.checked;
+      report(t, s, Mismatch::MissingValid, 0, nullptr,
+             "no result " + std::to_string(t - s.cycle) + " cycles after acceptance (the bound is " +
+                 std::to_string(o_.max_latency) + ")");
+    }
+    return;
+  }
+  if (fifo_.empty()) {
+    if (!reported) report(t, none, Mismatch::UnexpectedValid, 0, nullptr, "out_valid_o = 1, but no accepted input is waiting");
+    return;
+  }
+  const Slot s = fifo_.front();
+  fifo_.pop_front();
+  --in_flight_;
+  ++st_.checked;
+  if (t - s.cycle < static_cast<uint64_t>(latency_)) {
+    if (!reported)
+      report(t, s, Mismatch::UnexpectedValid, 0, nullptr,
+             "out_valid_o = 1 " + std::to_string(t - s.cycle) + " cycles after the oldest waiting input was accepted, " +
+                 "sooner than the latency " + std::to_string(latency_));
+    return;
+  }
+  ad_.read(act_);
+  uint32_t diff = 0;
+  for (size_t i = 0; i < outs_.size(); ++i) {
+    if (((act_.v[i] ^ s.exp.v[i]) & outs_[i].mask()) != 0) diff |= 1u << i;
+  }
+  if (diff) report(t, s, Mismatch::Data, diff, &act_);
+}
+
 std::string Scoreboard::field_line(const FieldInfo& f, uint64_t v) const {
   return hex(v & f.mask(), f.bits) + " (" + ad_.decimal(f, v & f.mask()) + ")";
 }
 
-void Scoreboard::report(uint64_t t, const Slot& s, Mismatch::Kind kind, uint32_t diff, const Record* act) {
+void Scoreboard::report(uint64_t t, const Slot& s, Mismatch::Kind kind, uint32_t diff, const Record* act,
+                        const std::string& why) {
   std::ostringstream os;
   const uint64_t b = o_.report_cycle_base;
   os << "[" << o_.test << "] MISMATCH at cycle " << t - b << " (trace time " << 10 * t << "): seed=" << o_.seed
      << ", " << ad_.describe();
   if (!o_.format.empty() && ad_.describe().find(o_.format) == std::string::npos) os << ", format " << o_.format;
   os << ", Stages=" << o_.stages << "\n";
-  if (kind == Mismatch::UnexpectedValid) {
-    os << "  out_valid_o = 1, but no input was issued in cycle "
-       << (t >= b + static_cast<uint64_t>(latency_) ? std::to_string(t - b - latency_) : std::string("< 0")) << " ("
-       << latency_ << " cycles earlier" << (latency_ != o_.stages ? ", the expected latency" : "") << ")";
-    if (last_reset_ != ~0ull) os << "; last reset in cycle " << last_reset_ - b << " (stale result?)";
+  if (kind == Mismatch::Ready || (kind == Mismatch::UnexpectedValid && (!handshake_ || s.item < 0))) {
+    if (why.empty()) {
+      os << "  out_valid_o = 1, but no input was issued in cycle "
+         << (t >= b + static_cast<uint64_t>(latency_) ? std::to_string(t - b - latency_) : std::string("< 0")) << " ("
+         << latency_ << " cycles earlier" << (latency_ != o_.stages ? ", the expected latency" : "") << ")";
+    } else {
+      os << "  " << why;
+    }
+    if (last_reset_ != ~0ull) os << "; last reset in cycle " << last_reset_ - b << (kind == Mismatch::Ready ? "" : " (stale result?)");
     os << "\n  output (don't-care data shown):";
     Record a;
     ad_.read(a);
     for (size_t i = 0; i < outs_.size(); ++i) os << " " << outs_[i].name << "=" << field_line(outs_[i], a.v[i]);
     os << "\n";
+  } else if (s.item < 0) {  // a handshake unit's timing reference expected a result, none is waiting
+    os << "  " << why << "\n";
   } else {
+    if (!why.empty()) os << "  " << why << "\n";
     os << "  input #" << s.item << " issued in cycle " << s.cycle - b << ":\n";
     if (o_.item_context) os << o_.item_context(s.item);
     for (size_t i = 0; i < ins_.size(); ++i)
       os << "    " << ins_[i].name << " = " << field_line(ins_[i], s.in.v[i]) << "\n";
-    if (kind == Mismatch::MissingValid) {
-      os << "  out_valid_o = 0, but the result of that input is due now; expected:";
+    if (kind == Mismatch::MissingValid || kind == Mismatch::UnexpectedValid) {
+      os << (kind == Mismatch::UnexpectedValid ? "  expected:" : "  out_valid_o = 0, but the result of that input is due now; expected:");
       for (size_t i = 0; i < outs_.size(); ++i) os << " " << outs_[i].name << "=" << field_line(outs_[i], s.exp.v[i]);
       os << "\n";
     } else {

@@ -6,7 +6,9 @@
 //   random      random vectors of the registry generator (20,000; long configurations 10^6)
 //   reset       random vectors with a reset every ~40 cycles (dropped, replayed)
 //   inject_*    (configurations tagged "selftest") the harness's planted errors
-// and, for fast configurations, Long_<unit>_<cfg>.random with 10^6 vectors (label long).
+// and, for fast configurations, Long_<unit>_<cfg>.random with 10^6 vectors (label long). A unit's
+// own plan may call it with hooks (RegistryPlanHooks: options of every run such as a handshake
+// unit's timing reference, other vector counts) and add tests of its own.
 #include <gtest/gtest.h>
 
 #include "rayunits/tb/registry_adapter.hpp"
@@ -23,6 +25,7 @@ struct Ctx {
   const synth::UnitSpec* u = nullptr;
   synth::UnitConfig uc;
   std::string suite;
+  std::function<void(RunOptions&)> options;
 
   ScoreboardTest make(const std::string& test) const {
     ScoreboardTest t;
@@ -32,6 +35,7 @@ struct Ctx {
     const synth::UnitConfig c = uc;
     t.adapter = [us, c] { return std::make_unique<RegistryAdapter>(*us, c); };
     t.opt = make_options(*cfg, t.name);
+    if (options) options(t.opt);
     return t;
   }
   uint64_t seed(const std::string& test) const { return mix_seed(global_options().seed, suite + "." + test); }
@@ -42,6 +46,16 @@ struct Ctx {
     return [us, c, s, n] { return registry_random_source(*us, c, s, n); };
   }
 };
+
+Ctx make_ctx(const ConfigDesc& cfg, const RegistryPlanHooks& hooks) {
+  Ctx c;
+  c.cfg = &cfg;
+  c.u = &synth::find_unit(cfg.unit);
+  c.uc = unit_config(cfg);
+  c.suite = (cfg.has_tag("long") ? "Long_" : "") + cfg.full_name();
+  c.options = hooks.options;
+  return c;
+}
 
 void add_random(Ctx c, const std::string& suite, const std::string& test, uint64_t n, uint32_t reset_every) {
   c.suite = suite;
@@ -55,16 +69,22 @@ void add_random(Ctx c, const std::string& suite, const std::string& test, uint64
 
 }  // namespace
 
-void registry_plan(const ConfigDesc& cfg) {
-  Ctx c;
-  c.cfg = &cfg;
-  c.u = &synth::find_unit(cfg.unit);
-  c.uc = unit_config(cfg);
+ScoreboardTest registry_test(const ConfigDesc& cfg, const std::string& test, uint64_t n, const RegistryPlanHooks& hooks) {
+  const Ctx c = make_ctx(cfg, hooks);
+  ScoreboardTest t = c.make(test);
+  t.source = c.random(test, n);
+  return t;
+}
+
+void registry_plan(const ConfigDesc& cfg, const RegistryPlanHooks& hooks) {
+  const Ctx c = make_ctx(cfg, hooks);
   const bool is_long = cfg.has_tag("long");
-  c.suite = (is_long ? "Long_" : "") + cfg.full_name();
-  add_random(c, c.suite, "random", vector_count(cfg, is_long ? kLongRandom : kFastRandom), 3000);
-  add_random(c, c.suite, "reset", vector_count(cfg, is_long ? kLongRandom / 10 : kFastRandom / 4), 40);
-  if (!is_long) add_random(c, "Long_" + cfg.full_name(), "random", vector_count(cfg, kLongRandom), 3000);
+  const uint64_t fast = hooks.fast_random ? hooks.fast_random : kFastRandom;
+  const uint64_t lng = hooks.long_random ? hooks.long_random : kLongRandom;
+  add_random(c, c.suite, "random", vector_count(cfg, is_long ? lng : fast), 3000);
+  add_random(c, c.suite, "reset", vector_count(cfg, is_long ? lng / 10 : fast / 4),
+             hooks.reset_every ? hooks.reset_every : 40);
+  if (!is_long) add_random(c, "Long_" + cfg.full_name(), "random", vector_count(cfg, lng), 3000);
   if (cfg.has_tag("selftest")) {
     SelftestPlan p;
     p.suite = c.suite;
@@ -73,12 +93,14 @@ void registry_plan(const ConfigDesc& cfg) {
     p.seed = [c](const std::string& test) { return c.seed(test); };
     p.random = [c](const std::string& test, uint64_t n) { return c.random(test, n); };
     for (const synth::Field& f : synth::fields_for(*c.u, c.uc, synth::PortDir::Out)) p.out_bits.push_back(f.bits);
+    p.handshake = c.u->handshake;
+    p.timing = hooks.timing;
     add_harness_selftests(p);
   }
 }
 
 namespace {
-PlanRegistrar r_any("*", registry_plan);
+PlanRegistrar r_any("*", [](const ConfigDesc& cfg) { registry_plan(cfg); });
 }  // namespace
 
 }  // namespace ru::tb

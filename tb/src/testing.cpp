@@ -302,6 +302,9 @@ void add_harness_selftests(const SelftestPlan& p) {
   });
   for (int delta : {+1, -1}) {
     if (delta < 0 && p.stages == 0) continue;
+    // A handshake unit's results may come later than Stages: one expected a cycle early is
+    // caught only by a timing reference.
+    if (delta < 0 && p.handshake && !p.timing) continue;
     const std::string name = delta > 0 ? "inject_latency_late" : "inject_latency_early";
     register_test(p.suite, name, [p, note, delta, name] {
       ScoreboardTest t = p.make(name);
@@ -334,8 +337,14 @@ void add_harness_selftests(const SelftestPlan& p) {
       std::cerr << note;
       const RunStats st = run_scoreboard(t);
       ASSERT_FALSE(st.errors.empty()) << "stale results after reset went unnoticed";
-      EXPECT_EQ(st.errors[0].kind, Mismatch::UnexpectedValid);
-      EXPECT_EQ(st.errors[0].cycle, 201u);
+      if (p.handshake) {
+        // the stale state shows as a result or as in_ready_o, in the first cycle that differs
+        EXPECT_TRUE(st.errors[0].kind == Mismatch::UnexpectedValid || st.errors[0].kind == Mismatch::Ready);
+        EXPECT_GE(st.errors[0].cycle, 201u);
+      } else {
+        EXPECT_EQ(st.errors[0].kind, Mismatch::UnexpectedValid);
+        EXPECT_EQ(st.errors[0].cycle, 201u);
+      }
       EXPECT_NE(st.errors[0].report.find("last reset in cycle 200"), std::string::npos);
     });
   }

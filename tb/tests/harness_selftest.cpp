@@ -7,7 +7,9 @@
 // DUT (with an asynchronous or a synchronous reset) and report every bug.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <deque>
 #include <fstream>
 #include <vector>
 
@@ -293,6 +295,117 @@ TEST(TbVectorFile, BadLinesGiveFileAndLine) {
     }
   }
   EXPECT_THROW(read_vector_file("/nonexistent/x.txt", ad), std::runtime_error);
+}
+
+// SoftQueue: a software DUT with a handshake (in_ready_o) and a variable latency, results in
+// order -- the shape of ru_ray_tri_exact: ru::num::mul, Stages cycles, plus 5..36 more for one
+// input in eight (a "side path"), at most Cap = 3 inside. Its bugs: it ignores in_ready_o (accepts
+// when full), swaps two results, lets one result out a cycle early, or loses one.
+enum class QBug { None, IgnoreReady, Reorder, Early, Lose };
+
+class SoftQueue final : public Dut {
+ public:
+  SoftQueue(const Format& f, int stages, QBug bug, uint64_t bug_item) : f_(f), stages_(stages), bug_(bug), bug_item_(bug_item) {
+    pm_.add("clk_i", Port(&clk_, 1));
+    pm_.add("rst_ni", Port(&rst_, 1));
+    pm_.add("in_valid_i", Port(&in_valid_, 1));
+    pm_.add("in_ready_o", Port(&in_ready_, 1));
+    pm_.add("a_i", Port(&a_, f.width()));
+    pm_.add("b_i", Port(&b_, f.width()));
+    pm_.add("out_valid_o", Port(&out_valid_, 1));
+    pm_.add("y_o", Port(&y_out_, f.width()));
+    pm_.add("flags_o", Port(&flags_out_, 5));
+  }
+  void eval() override {
+    if (!rst_) q_.clear();
+    if (clk_ && !last_clk_) edge();
+    last_clk_ = clk_;
+    in_ready_ = q_.size() < kCap;
+    out_valid_ = !q_.empty() && cyc_ >= q_.front().due;
+    y_out_ = out_valid_ ? q_.front().y : 0;
+    flags_out_ = out_valid_ ? q_.front().flags : 0;
+  }
+  const PortMap& ports() const override { return pm_; }
+  bool trace_open(const std::string&) override { return false; }
+  void trace_dump(uint64_t) override {}
+  void trace_close() override {}
+
+ private:
+  static constexpr size_t kCap = 3;
+  struct Item {
+    uint64_t y, due;
+    uint8_t flags;
+  };
+  void edge() {
+    const bool out = !q_.empty() && cyc_ >= q_.front().due;
+    const bool acc = rst_ && in_valid_ && (q_.size() < kCap || bug_ == QBug::IgnoreReady);
+    if (rst_ && out) q_.pop_front();
+    if (acc) {
+      const ru::num::Result r = ru::num::mul(f_, a_, b_);
+      const uint64_t extra = (a_ & 7) == 0 ? 5 + (a_ >> 3) % 32 : 0;
+      Item it{r.bits, cyc_ + static_cast<uint64_t>(stages_) + extra, r.flags};
+      const bool bug_now = count_++ == bug_item_;
+      if (bug_now && bug_ == QBug::Early) it.due -= 1;
+      if (bug_now && bug_ == QBug::Reorder && !q_.empty()) {
+        q_.insert(q_.end() - 1, it);
+      } else if (!(bug_now && bug_ == QBug::Lose)) {
+        q_.push_back(it);
+      }
+      // in order: nothing leaves before the one ahead of it
+      for (size_t i = 1; i < q_.size(); ++i) q_[i].due = std::max(q_[i].due, q_[i - 1].due + 1);
+    }
+    ++cyc_;
+  }
+  Format f_;
+  int stages_;
+  QBug bug_;
+  uint64_t bug_item_;
+  std::deque<Item> q_;
+  uint64_t cyc_ = 0, count_ = 0;
+  uint8_t clk_ = 0, last_clk_ = 0, rst_ = 1, in_valid_ = 0, in_ready_ = 0, out_valid_ = 0, flags_out_ = 0;
+  uint64_t a_ = 0, b_ = 0, y_out_ = 0;
+  PortMap pm_;
+};
+
+RunStats run_queue(int stages, QBug bug, uint64_t n, uint32_t reset_every, uint64_t bug_item = 300) {
+  Format f = Format::parse("e5m10");
+  SoftQueue dut(f, stages, bug, bug_item);
+  FpAdapter ad(*fp_unit_spec("fp_mul"), f, stages);
+  auto src = fp_random_source(*fp_unit_spec("fp_mul"), f, 11, n);
+  RunOptions o;
+  o.test = "soft_queue";
+  o.seed = 5;
+  o.stages = stages;
+  o.reset_every = reset_every;
+  o.max_latency = 200;
+  o.quiet = true;
+  return run(dut, ad, *src, o);
+}
+
+// The scoreboard's handshake mode (results in order, latency >= Stages, at most max_latency):
+// the correct queue passes, with refused inputs offered again and resets; each bug is reported.
+TEST(TbHarness, HandshakeUnitInOrderWithVariableLatency) {
+  for (int s : {1, 2, 4}) {
+    for (uint32_t reset_every : {0u, 400u}) {
+      const RunStats st = run_queue(s, QBug::None, 3000, reset_every);
+      EXPECT_TRUE(st.ok()) << "Stages " << s << ": " << (st.errors.empty() ? "" : st.errors[0].report);
+      EXPECT_EQ(st.checked, 3000u);
+      if (reset_every) {
+        EXPECT_GT(st.dropped, 0u) << "resets never hit a waiting result";
+      }
+    }
+  }
+  const RunStats ign = run_queue(2, QBug::IgnoreReady, 3000, 0);
+  EXPECT_FALSE(ign.ok()) << "a DUT that accepts while in_ready_o = 0 went unnoticed";
+  const RunStats reo = run_queue(2, QBug::Reorder, 3000, 0);
+  ASSERT_FALSE(reo.ok()) << "swapped results went unnoticed";
+  EXPECT_EQ(reo.errors[0].kind, Mismatch::Data);
+  const RunStats early = run_queue(2, QBug::Early, 3000, 0, 0);  // the first input: nothing ahead of it
+  ASSERT_FALSE(early.ok()) << "a result a cycle before the latency went unnoticed";
+  EXPECT_EQ(early.errors[0].kind, Mismatch::UnexpectedValid);
+  EXPECT_NE(early.errors[0].report.find("sooner than the latency 2"), std::string::npos) << early.errors[0].report;
+  const RunStats lose = run_queue(2, QBug::Lose, 3000, 0);
+  EXPECT_FALSE(lose.ok()) << "a lost result went unnoticed";
 }
 
 TEST(TbOptions, ParsesAndRejects) {

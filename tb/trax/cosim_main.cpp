@@ -118,6 +118,7 @@ uint64_t compared() {
     }
     case ru::tb::Mismatch::MissingValid: o << "out_valid_o = 0 when the result is due (issue + latency)"; break;
     case ru::tb::Mismatch::UnexpectedValid: o << "out_valid_o = 1 but no result is due in this cycle"; break;
+    case ru::tb::Mismatch::Ready: o << "in_ready_o differs from the unit's timing"; break;  // (no TRaX unit has a handshake)
   }
   o << "\n  RTL " << in.u->rtl << " of TM " << in.tm << ", unit slot " << in.slot << " (latency " << in.u->latency
     << ")\n"

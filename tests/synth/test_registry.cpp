@@ -227,7 +227,10 @@ TEST(Registry, ReadmeOnePastTheMaximumAgrees) {
     EXPECT_EQ(std::stoi((*it)[2].str()), u.max_stages(c) + 1) << name;
     ++seen;
   }
-  EXPECT_EQ(seen + 2, static_cast<int>(units().size())) << text;  // + the two dp units above
+  // + the two dp units above, + ray_tri_exact, whose fast matrix is Stages 2 (the README says so)
+  EXPECT_EQ(seen + 3, static_cast<int>(units().size())) << text;
+  EXPECT_NE(md.find("ray_tri_exact at e5m10 Stages 2"), std::string::npos);
+  EXPECT_EQ(find_unit("ray_tri_exact").tests, std::vector<std::string>{"e5m10:s2:selftest"});
 }
 
 TEST(Registry, ExpressionsEvaluate) {

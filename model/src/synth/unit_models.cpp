@@ -13,6 +13,8 @@
 #include "rayunits/units/ray_box.hpp"
 #include "rayunits/units/ray_tri.hpp"
 #include "rayunits/units/ray_tri_cheap.hpp"
+#include "rayunits/units/ray_tri_exact.hpp"
+#include "rayunits/units/ray_tri_exact_gen.hpp"
 #include "rayunits/units/synthetic.hpp"
 #include "rayunits/util/rng.hpp"
 
@@ -284,6 +286,24 @@ GoldenEval ray_tri_golden(const UnitConfig& c, bool robust) {
   };
 }
 
+GoldenEval ray_tri_exact_golden(const UnitConfig& c) {
+  const Format f = c.fmt;
+  return [f](const uint64_t* in, uint64_t* out) {
+    num::SoftScope scope(f);
+    auto S = [&](int i) { return Soft::from_bits(in[i]); };
+    auto V = [&](int i) { return Vec3<Soft>{S(i), S(i + 1), S(i + 2)}; };
+    units::ExactTriOptions o;
+    o.filter = units::ExactFilter::PermanentFormat;
+    const auto r = units::ray_tri_exact(V(0), V(3), V(6), V(9), V(12), S(15), S(16), o);
+    out[0] = r.hit;
+    out[1] = static_cast<uint64_t>(r.why);
+    out[2] = r.t.bits;
+    out[3] = r.beta.bits;
+    out[4] = r.gamma.bits;
+    out[5] = r.path.slow() ? 1 : 0;
+  };
+}
+
 GoldenEval dp_golden(const UnitConfig& c, std::shared_ptr<const dp::Graph> g) {
   const Format f = c.fmt;
   return [g, f](const uint64_t* in, uint64_t* out) {
@@ -376,6 +396,21 @@ InputGen ray_tri_inputs(const UnitConfig& c, uint64_t seed) {
       return units::synth_tri(o);
     }), in);
     st->sp(st->rng, in, 17, 10);
+  };
+}
+
+InputGen ray_tri_exact_inputs(const UnitConfig& c, uint64_t seed) {
+  struct State {
+    InputGen scene;
+    units::ExactTriGen hard;
+    int n = 0;
+  };
+  auto st = std::make_shared<State>(State{ray_tri_inputs(c, seed), units::ExactTriGen(c.fmt, seed ^ 0x5eed0e7ac7ull), 0});
+  return [st](uint64_t* in) {
+    const int i = st->n++;
+    if (i % 2 == 0) return st->scene(in);
+    const units::ExactTriRecord r = st->hard.next(i / 2);
+    for (int k = 0; k < 17; ++k) in[k] = r.bits[k];
   };
 }
 

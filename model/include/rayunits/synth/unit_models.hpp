@@ -57,6 +57,11 @@ InputGen ray_box_inputs(const UnitConfig& c, uint64_t seed);
 //   -> hit why t beta gamma V Va V0 V1 V2 (the volumes 0 unless OptVolOut = 1)
 GoldenEval ray_tri_golden(const UnitConfig& c, bool robust);
 InputGen ray_tri_inputs(const UnitConfig& c, uint64_t seed);
+// ru_ray_tri_exact: units::ray_tri_exact<Soft> (the RTL's filter) -> hit, why, t, beta, gamma, slow.
+GoldenEval ray_tri_exact_golden(const UnitConfig& c);
+// Alternately ray_tri_inputs' records (synthetic scenes: the fast path decides nearly all) and
+// units::ExactTriGen's (grids, vertices, extremes: the side path's cases).
+InputGen ray_tri_exact_inputs(const UnitConfig& c, uint64_t seed);
 // A design of the datapath IR (dp/formulas.hpp, by name) as the golden model of its emitted module
 // (rayunits dp emit): the graph evaluated in Soft, one output field per graph output (a Boolean
 // output is 0/1).

@@ -44,8 +44,9 @@ struct UnitConfig {
 };
 
 enum class PortDir { In, Out };
-// What a port is for; the FPGA harness and the datasheet use it.
-enum class PortRole { Clock, Reset, Valid, Data };
+// What a port is for; the FPGA harness and the datasheet use it. Ready: in_ready_o of a unit with
+// a handshake (UnitSpec::handshake): an input is accepted in a cycle with in_valid_i && in_ready_o.
+enum class PortRole { Clock, Reset, Valid, Data, Ready };
 // What a data port's value (each of its elements) is: raw bits (fixed point, a hit bit), a bit
 // pattern of the configuration's format, the five IEEE flags {i, z, o, u, x}, or an enumeration
 // (op codes, reason codes: `enum_names` by value). The testbench prints values by it and draws
@@ -119,8 +120,14 @@ struct UnitSpec {
   // eval_expr() expression, e.g. "L+4". Must equal the RTL's localparam MaxUsefulStages.
   std::string max_stages_expr;
   int max_stages(const UnitConfig& c) const;
-  // Latency in cycles of a configuration: every unit's latency is exactly its Stages.
+  // Latency in cycles of a configuration: every unit's latency is exactly its Stages -- except a
+  // unit with a handshake, for which Stages is the smallest latency (see `handshake`).
   int latency(const UnitConfig& c) const { return c.stages; }
+  // The unit has in_ready_o (PortRole::Ready) and a variable latency: a result leaves Stages
+  // cycles after its input or later, results in input order (ru_ray_tri_exact: a test that needs
+  // the exact side path waits for it, and the ones behind it wait too). The scoreboard checks
+  // such a unit in order, the handshake included (tb/README.md, "Units with a handshake").
+  bool handshake = false;
   // Formats the RTL accepts (on top of num::Format's own range check).
   int min_exp = num::Format::kMinExp, max_exp = num::Format::kMaxExp;
   int min_frac = num::Format::kMinFrac, max_frac = num::Format::kMaxFrac;

@@ -19,6 +19,18 @@
 // harness drives in_valid_i randomly then) must be dropped by the DUT. Outputs are not
 // compared in reset cycles; from the first cycle after reset on, a result that the queue does
 // not expect (a stale one) is an error.
+//
+// Units with a handshake (the DUT has in_ready_o; synth::UnitSpec::handshake, ru_ray_tri_exact):
+// an input is accepted in a cycle with in_valid_i && in_ready_o (a refused input is offered again
+// later; while in_ready_o = 0 the harness still drives in_valid_i = 1 with it, which the DUT must
+// ignore), and results leave in input order after a variable latency of at least Stages cycles.
+// The queue is then a FIFO: each out_valid_o takes the oldest accepted input, whose expected
+// outputs must match; out_valid_o with nothing accepted, or sooner than Stages cycles after the
+// oldest input's acceptance, is UnexpectedValid; an oldest input older than opt.max_latency
+// without a result is MissingValid. With a timing reference (opt.timing: the unit's cycle rules,
+// e.g. tb/exact's replay of ru_ray_tri_exact's order buffer and side path), in_ready_o and
+// out_valid_o are also compared with it in every cycle, so every result's cycle is checked
+// exactly (Mismatch::Ready for in_ready_o).
 #pragma once
 
 #include <cstdint>
@@ -120,6 +132,18 @@ struct Injection {
                             // whose reset does not clear its pipeline: stale results follow)
 };
 
+// The cycle timing of a unit with a handshake, as a reference (RunOptions::timing).
+class HandshakeTiming {
+ public:
+  virtual ~HandshakeTiming() = default;
+  // in_ready_o the DUT must show in the coming cycle.
+  virtual bool ready() const = 0;
+  // Cycle t: `accepted` is the input the DUT accepted in it (nullptr: none). Returns whether a
+  // result leaves in cycle t (out_valid_o), the oldest inside.
+  virtual bool step(uint64_t t, const Record* accepted) = 0;
+  virtual void reset() = 0;  // rst_ni = 0: everything inside is dropped
+};
+
 struct RunOptions {
   std::string test = "tb";  // name used in messages
   uint64_t seed = 1;
@@ -143,10 +167,15 @@ struct RunOptions {
   // resets each instance before TRaX cycle 0 and numbers its cycles TRaX cycle + 3).
   uint64_t report_cycle_base = 0;
   Injection inject;
+  // Units with a handshake (see the top of this file): the longest a result may take (0: no
+  // bound), and a factory of the timing reference (empty: order and bounds only). The factory
+  // gets these options (inject.latency_delta shifts the reference's latency: a planted error).
+  int max_latency = 0;
+  std::function<std::unique_ptr<HandshakeTiming>(const RunOptions&)> timing;
 };
 
 struct Mismatch {
-  enum Kind : uint8_t { Data, MissingValid, UnexpectedValid };
+  enum Kind : uint8_t { Data, MissingValid, UnexpectedValid, Ready };
   Kind kind = Data;
   uint64_t cycle = 0;        // cycle whose outputs were wrong
   int64_t item = -1;         // issue index of the expected item (-1: none expected)
@@ -188,9 +217,16 @@ class Scoreboard {
   // whose expected outputs are *exp (nullptr: the adapter's golden model), compares out_valid_o
   // and the outputs due in cycle t, then gives the rising edge. Returns false if the cycle
   // added a mismatch (stats().errors; printed on stderr unless opt.quiet).
+  // Units with a handshake: *in is issued only if in_ready_o is high (accepted()).
   bool cycle(uint64_t t, const Record* in, const Record* exp = nullptr);
 
   bool busy() const { return in_flight_ > 0; }  // results still due
+  bool handshake() const { return handshake_; }  // the DUT has in_ready_o
+  bool accepted() const { return accepted_; }    // the last cycle() issued its input
+  // Cycles a drain may take: the latency, or for a handshake unit opt.max_latency (or 10^6).
+  uint64_t drain_limit() const;
+  // End of a run: results of a handshake unit still missing are reported (MissingValid).
+  void finish(uint64_t t);
   int latency() const { return latency_; }
   std::deque<Record>& dropped() { return replay_; }  // inputs dropped by resets, to re-issue
   RunStats& stats() { return st_; }
@@ -208,9 +244,11 @@ class Scoreboard {
   void advance_to(uint64_t t);
   void drive_junk();
   void check(uint64_t t);
+  void check_handshake(uint64_t t, bool ready, const Record* accepted);
   void edge(uint64_t t);
   std::string field_line(const FieldInfo& f, uint64_t v) const;
-  void report(uint64_t t, const Slot& s, Mismatch::Kind kind, uint32_t diff, const Record* act);
+  void report(uint64_t t, const Slot& s, Mismatch::Kind kind, uint32_t diff, const Record* act,
+              const std::string& why = "");
 
   Dut& dut_;
   UnitAdapter& ad_;
@@ -221,6 +259,11 @@ class Scoreboard {
   Rng junk_;
   Port clk_, rst_, in_valid_, out_valid_;
   std::vector<Slot> ring_;
+  // handshake units: the accepted inputs in order, the optional timing reference
+  bool handshake_ = false, accepted_ = false;
+  Port in_ready_;
+  std::deque<Slot> fifo_;
+  std::unique_ptr<HandshakeTiming> timing_;
   std::deque<Record> replay_;
   Record act_;
   RunStats st_;

@@ -66,8 +66,6 @@ class RegistryAdapter : public UnitAdapter {
 std::unique_ptr<VectorSource> registry_random_source(const synth::UnitSpec& u, const synth::UnitConfig& c,
                                                      uint64_t seed, uint64_t n);
 
-// The generic test plan (tb/src/registry_plan.cpp) of one configuration: random, reset, the planted
-// errors (selftest tag), Long_ random. Units with their own plan call it and add their tests.
-void registry_plan(const ConfigDesc& cfg);
+// The generic test plan of one configuration, registry_plan(), is declared in testing.hpp.
 
 }  // namespace ru::tb

@@ -83,8 +83,29 @@ struct SelftestPlan {
   std::function<std::function<std::unique_ptr<VectorSource>()>(const std::string& test, uint64_t n)> random;
   std::vector<int> out_bits;  // width of each output field (bit flips land in one of them)
   std::function<uint64_t(const std::string& test)> seed;
+  // A unit with a handshake (in_ready_o), and whether its tests have a timing reference
+  // (RunOptions::timing): inject_latency_early needs one; inject_stale accepts a stale
+  // in_ready_o as the first symptom.
+  bool handshake = false, timing = false;
 };
 void add_harness_selftests(const SelftestPlan& p);
+
+// The generic plan of a registered unit (tb/src/registry_plan.cpp), for a unit's own plan to
+// build on: `options` adjusts every run's options (a handshake unit: RunOptions::timing and
+// max_latency; then `timing` = true), fast_random / long_random replace the random-vector counts
+// (20,000 and 10^6) and reset_every the reset test's mean cycles between resets (40) when
+// non-zero (a unit whose results may take hundreds of cycles needs longer: else hardly a result
+// survives to be checked).
+struct RegistryPlanHooks {
+  std::function<void(RunOptions&)> options;
+  bool timing = false;
+  uint64_t fast_random = 0, long_random = 0;
+  uint32_t reset_every = 0;
+};
+void registry_plan(const ConfigDesc& cfg, const RegistryPlanHooks& hooks = {});
+// One test of that plan: `n` of the registry's random vectors, options as the plan's.
+ScoreboardTest registry_test(const ConfigDesc& cfg, const std::string& test, uint64_t n,
+                             const RegistryPlanHooks& hooks = {});
 
 // Vector-count helper: --vectors if given, else the configuration's n=<count> tag, else def.
 uint64_t vector_count(const ConfigDesc& cfg, uint64_t def);
