@@ -1,6 +1,6 @@
 // tb/exact: the request generator and the exact side path's reference (results with GMP via the
 // golden model, latencies by the formula of rtl/ru_exact_path.sv's header), shared by the tests of
-// ru_exact_path (exact_path_test.cpp) and of ru_ray_tri_exact (ray_tri_exact_test.cpp).
+// ru_exact_path (exact_path_test.cpp) and of ru_ray_tri_exact (ray_tri_exact_plan.cpp).
 #pragma once
 
 #include <gmpxx.h>

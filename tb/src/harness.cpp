@@ -308,6 +308,30 @@ void Scoreboard::reset(uint64_t t, bool initial) {
   if (tracing_ && t >= o_.trace_from) dut_.trace_dump(10 * t + 5);
 }
 
+// The expectation of the input issued (accepted) in cycle t: its outputs from exp or the model.
+void Scoreboard::expect(Slot& s, uint64_t t, const Record& in, const Record* exp) {
+  s.valid = true;
+  ++in_flight_;
+  s.item = static_cast<int64_t>(st_.issued);
+  s.cycle = t;
+  s.in = in;
+  if (exp)
+    s.exp = *exp;
+  else
+    ad_.model(s.in, s.exp);
+  if (s.item == o_.inject.flip_item) s.exp.v[o_.inject.flip_field] ^= 1ull << o_.inject.flip_bit;
+}
+
+// The DUT's outputs against slot s's expectation (out_valid_o is 1).
+void Scoreboard::compare(uint64_t t, const Slot& s) {
+  ad_.read(act_);
+  uint32_t diff = 0;
+  for (size_t i = 0; i < outs_.size(); ++i) {
+    if (((act_.v[i] ^ s.exp.v[i]) & outs_[i].mask()) != 0) diff |= 1u << i;
+  }
+  if (diff) report(t, s, Mismatch::Data, diff, &act_);
+}
+
 bool Scoreboard::cycle(uint64_t t, const Record* in, const Record* exp) {
   advance_to(t);
   const size_t errors = st_.errors.size();
@@ -325,18 +349,8 @@ bool Scoreboard::cycle(uint64_t t, const Record* in, const Record* exp) {
     accepted_ = in && ready;
     if (accepted_) {
       if (o_.check) {
-        Slot a;
-        a.valid = true;
-        a.item = static_cast<int64_t>(st_.issued);
-        a.cycle = t;
-        a.in = *in;
-        if (exp)
-          a.exp = *exp;
-        else
-          ad_.model(a.in, a.exp);
-        if (a.item == o_.inject.flip_item) a.exp.v[o_.inject.flip_field] ^= 1ull << o_.inject.flip_bit;
-        fifo_.push_back(a);
-        ++in_flight_;
+        fifo_.emplace_back();
+        expect(fifo_.back(), t, *in, exp);
       }
       ++st_.issued;
     }
@@ -353,18 +367,7 @@ bool Scoreboard::cycle(uint64_t t, const Record* in, const Record* exp) {
   if (in) {
     in_valid_.set(1);
     ad_.drive(*in);
-    if (o_.check) {
-      s.valid = true;
-      ++in_flight_;
-      s.item = static_cast<int64_t>(st_.issued);
-      s.cycle = t;
-      s.in = *in;
-      if (exp)
-        s.exp = *exp;
-      else
-        ad_.model(s.in, s.exp);
-      if (s.item == o_.inject.flip_item) s.exp.v[o_.inject.flip_field] ^= 1ull << o_.inject.flip_bit;
-    }
+    if (o_.check) expect(s, t, *in, exp);
     ++st_.issued;
   } else {
     in_valid_.set(0);
@@ -392,12 +395,7 @@ void Scoreboard::check(uint64_t t) {
     report(t, s, Mismatch::MissingValid, 0, nullptr);
     return;
   }
-  ad_.read(act_);
-  uint32_t diff = 0;
-  for (size_t i = 0; i < outs_.size(); ++i) {
-    if (((act_.v[i] ^ s.exp.v[i]) & outs_[i].mask()) != 0) diff |= 1u << i;
-  }
-  if (diff) report(t, s, Mismatch::Data, diff, &act_);
+  compare(t, s);
 }
 
 void Scoreboard::check_handshake(uint64_t t, bool ready, const Record* accepted) {
@@ -447,12 +445,7 @@ void Scoreboard::check_handshake(uint64_t t, bool ready, const Record* accepted)
                  "sooner than the latency " + std::to_string(latency_));
     return;
   }
-  ad_.read(act_);
-  uint32_t diff = 0;
-  for (size_t i = 0; i < outs_.size(); ++i) {
-    if (((act_.v[i] ^ s.exp.v[i]) & outs_[i].mask()) != 0) diff |= 1u << i;
-  }
-  if (diff) report(t, s, Mismatch::Data, diff, &act_);
+  compare(t, s);
 }
 
 std::string Scoreboard::field_line(const FieldInfo& f, uint64_t v) const {

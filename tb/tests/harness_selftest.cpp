@@ -99,20 +99,25 @@ class SoftPipe final : public Dut {
   PortMap pm_;
 };
 
-RunStats run_soft(int stages, Bug bug, uint64_t n, uint32_t reset_every = 50, uint64_t bug_item = 0,
-                  Traffic traffic = Traffic::Mixed) {
-  Format f = Format::parse("e5m10");
-  SoftPipe dut(f, stages, bug, bug_item);
+// n random e5m10 fp_mul vectors through a software DUT; o: test name, traffic, reset rate, ...
+RunStats run_mul(Dut& dut, int stages, uint64_t n, RunOptions o) {
+  const Format f = Format::parse("e5m10");
   FpAdapter ad(*fp_unit_spec("fp_mul"), f, stages);
   auto src = fp_random_source(*fp_unit_spec("fp_mul"), f, 11, n);
-  RunOptions o;
-  o.test = "soft";
   o.seed = 5;
   o.stages = stages;
-  o.reset_every = reset_every;
-  o.traffic = traffic;
   o.quiet = true;
   return run(dut, ad, *src, o);
+}
+
+RunStats run_soft(int stages, Bug bug, uint64_t n, uint32_t reset_every = 50, uint64_t bug_item = 0,
+                  Traffic traffic = Traffic::Mixed) {
+  SoftPipe dut(Format::parse("e5m10"), stages, bug, bug_item);
+  RunOptions o;
+  o.test = "soft";
+  o.reset_every = reset_every;
+  o.traffic = traffic;
+  return run_mul(dut, stages, n, o);
 }
 
 TEST(TbHarness, CorrectDutPassesEveryLatencyAndResetStyle) {
@@ -368,18 +373,12 @@ class SoftQueue final : public Dut {
 };
 
 RunStats run_queue(int stages, QBug bug, uint64_t n, uint32_t reset_every, uint64_t bug_item = 300) {
-  Format f = Format::parse("e5m10");
-  SoftQueue dut(f, stages, bug, bug_item);
-  FpAdapter ad(*fp_unit_spec("fp_mul"), f, stages);
-  auto src = fp_random_source(*fp_unit_spec("fp_mul"), f, 11, n);
+  SoftQueue dut(Format::parse("e5m10"), stages, bug, bug_item);
   RunOptions o;
   o.test = "soft_queue";
-  o.seed = 5;
-  o.stages = stages;
   o.reset_every = reset_every;
   o.max_latency = 200;
-  o.quiet = true;
-  return run(dut, ad, *src, o);
+  return run_mul(dut, stages, n, o);
 }
 
 // The scoreboard's handshake mode (results in order, latency >= Stages, at most max_latency):

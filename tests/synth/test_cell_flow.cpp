@@ -388,7 +388,7 @@ TEST(CellFlowCli, GenAtGivenStagesCountsTheSegments) {
   EXPECT_NE(md.find(" of 2 |"), std::string::npos) << md;
 }
 
-// synth/cell/exact_path_area.sh maps ru_exact_path (not a registry unit yet) with the cell flow's
+// synth/cell/exact_path_area.sh maps ru_exact_path (a submodule, not a registry unit) with the cell flow's
 // untargeted ABC script written out in shell; it must be cell_abc_script(0), the one the flow runs.
 TEST(CellFlow, ExactPathAreaScriptUsesTheFlowsAbcScript) {
   const std::string sh = read_file(std::string(RU_SOURCE_DIR) + "/synth/cell/exact_path_area.sh");

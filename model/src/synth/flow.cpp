@@ -839,8 +839,9 @@ json to_json(const SynthResult& r) { return to_json_rows(r).front(); }
 std::string format_table(const SynthResult& r) {
   const auto& g = r.generic;
   std::ostringstream o;
+  const bool hs = !r.unit.empty() && find_unit(r.unit).handshake;
   o << r.top << ": " << (r.unit.empty() ? r.top : config_args(find_unit(r.unit), r.cfg)) << "  (latency "
-    << r.cfg.stages << ", 1 op/cycle)\n";
+    << r.cfg.stages << (hs ? " or more, up to 1 op/cycle: in_ready_o)\n" : ", 1 op/cycle)\n");
   auto row = [&](const char* k, const std::string& v) {
     char b[32];
     std::snprintf(b, sizeof b, "  %-15s ", k);

@@ -100,6 +100,8 @@ json datasheet_json(const UnitSpec& u, const UnitConfig& c, const std::vector<st
   ds["latency"] = c.stages;
   ds["throughput"] = 1;
   ds["throughput_unit"] = "operations per cycle";
+  // a unit with a handshake: Stages is its smallest latency, 1 per cycle its peak throughput
+  ds["handshake"] = u.handshake;
   json params = json::object();
   for (const auto& [k, v] : params_for(u, c)) params[k] = v;
   ds["parameters"] = params;
@@ -154,8 +156,12 @@ std::string datasheet_markdown(const json& ds) {
       << f["frac_bits"].get<int>() << " fraction |\n"
       << "| subnormals | " << (f["subnormals"].get<bool>() ? "yes" : "no (flush to zero)") << " |\n"
       << "| rounding | " << ds["round"].get<std::string>() << " |\n";
-  o << "| latency | " << ds["latency"].get<int>() << " cycles |\n"
-    << "| throughput | 1 operation per cycle (fully pipelined) |\n";
+  if (ds["handshake"].get<bool>())
+    o << "| latency | " << ds["latency"].get<int>() << " cycles or more (results in input order) |\n"
+      << "| throughput | up to 1 operation per cycle: accepted while in_ready_o is high |\n";
+  else
+    o << "| latency | " << ds["latency"].get<int>() << " cycles |\n"
+      << "| throughput | 1 operation per cycle (fully pipelined) |\n";
   if (!ds["synthesis"].is_null() && ds["synthesis"].contains("area_um2")) {
     const json& s = ds["synthesis"];
     const std::string lib = s["library"].get<std::string>();

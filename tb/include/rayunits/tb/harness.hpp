@@ -243,6 +243,8 @@ class Scoreboard {
   };
   void advance_to(uint64_t t);
   void drive_junk();
+  void expect(Slot& s, uint64_t t, const Record& in, const Record* exp);
+  void compare(uint64_t t, const Slot& s);
   void check(uint64_t t);
   void check_handshake(uint64_t t, bool ready, const Record* accepted);
   void edge(uint64_t t);
