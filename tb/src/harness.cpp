@@ -127,6 +127,7 @@ class Runner {
     // Initial reset: 2..4 cycles (X-initialized registers must be cleared by it).
     int initial_reset = 2 + static_cast<int>(sb_.junk().below(3));
     uint64_t drain = 0, quiet = 0;  // cycles since the last input; of them with nothing in flight
+    uint64_t refused = 0;           // inputs refused in a row (in_ready_o = 0)
     bool exhausted = false;
     size_t next_forced = 0;
     std::vector<uint64_t> forced = o_.reset_at;
@@ -155,7 +156,15 @@ class Runner {
         if (issued) drain = quiet = 0;
         if (!issued && a == kValid) exhausted = replay.empty();  // fetch() failed: nothing left
         sb_.cycle(t, issued ? &in : nullptr);
-        if (issued && !sb_.accepted()) replay.push_front(in);  // refused (in_ready_o = 0): offer it again
+        if (issued && !sb_.accepted()) {  // refused (in_ready_o = 0): offer it again
+          replay.push_front(in);
+          if (++refused > sb_.drain_limit() + 1) {  // a unit that never takes another input
+            sb_.stalled(t, refused);
+            break;
+          }
+        } else if (issued) {
+          refused = 0;
+        }
       }
       if (st.errors.size() >= static_cast<size_t>(o_.max_errors)) {
         st.aborted = true;
@@ -246,9 +255,20 @@ uint64_t Scoreboard::drain_limit() const {
   return o_.max_latency > 0 ? static_cast<uint64_t>(o_.max_latency) : 1000000;
 }
 
+void Scoreboard::stalled(uint64_t t, uint64_t n) {
+  report(t, Slot{}, Mismatch::Ready, 0, nullptr,
+         "in_ready_o = 0 in each of the last " + std::to_string(n) + " cycles that offered an input");
+  st_.aborted = true;
+}
+
 void Scoreboard::finish(uint64_t t) {
-  // Results that never came (a handshake unit stuck past the drain): each is a missing result.
-  while (!fifo_.empty() && st_.errors.size() < static_cast<size_t>(o_.max_errors)) {
+  // Results that never came (a handshake unit stuck past the drain): each is a missing result,
+  // up to max_errors reports (then the run counts as stopped early).
+  while (!fifo_.empty()) {
+    if (st_.errors.size() >= static_cast<size_t>(o_.max_errors)) {
+      st_.aborted = true;
+      return;
+    }
     const Slot s = fifo_.front();
     fifo_.pop_front();
     --in_flight_;

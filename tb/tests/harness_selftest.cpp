@@ -306,7 +306,7 @@ TEST(TbVectorFile, BadLinesGiveFileAndLine) {
 // order -- the shape of ru_ray_tri_exact: ru::num::mul, Stages cycles, plus 5..36 more for one
 // input in eight (a "side path"), at most Cap = 3 inside. Its bugs: it ignores in_ready_o (accepts
 // when full), swaps two results, lets one result out a cycle early, or loses one.
-enum class QBug { None, IgnoreReady, Reorder, Early, Lose };
+enum class QBug { None, IgnoreReady, Reorder, Early, Lose, Stuck };
 
 class SoftQueue final : public Dut {
  public:
@@ -326,7 +326,7 @@ class SoftQueue final : public Dut {
     if (clk_ && !last_clk_) edge();
     last_clk_ = clk_;
     in_ready_ = q_.size() < kCap;
-    out_valid_ = !q_.empty() && cyc_ >= q_.front().due;
+    out_valid_ = !q_.empty() && cyc_ >= q_.front().due && !stuck_;
     y_out_ = out_valid_ ? q_.front().y : 0;
     flags_out_ = out_valid_ ? q_.front().flags : 0;
   }
@@ -342,7 +342,7 @@ class SoftQueue final : public Dut {
     uint8_t flags;
   };
   void edge() {
-    const bool out = !q_.empty() && cyc_ >= q_.front().due;
+    const bool out = !q_.empty() && cyc_ >= q_.front().due && !stuck_;
     const bool acc = rst_ && in_valid_ && (q_.size() < kCap || bug_ == QBug::IgnoreReady);
     if (rst_ && out) q_.pop_front();
     if (acc) {
@@ -350,6 +350,7 @@ class SoftQueue final : public Dut {
       const uint64_t extra = (a_ & 7) == 0 ? 5 + (a_ >> 3) % 32 : 0;
       Item it{r.bits, cyc_ + static_cast<uint64_t>(stages_) + extra, r.flags};
       const bool bug_now = count_++ == bug_item_;
+      if (bug_now && bug_ == QBug::Stuck) stuck_ = true;  // no result ever leaves again
       if (bug_now && bug_ == QBug::Early) it.due -= 1;
       if (bug_now && bug_ == QBug::Reorder && !q_.empty()) {
         q_.insert(q_.end() - 1, it);
@@ -367,17 +368,19 @@ class SoftQueue final : public Dut {
   uint64_t bug_item_;
   std::deque<Item> q_;
   uint64_t cyc_ = 0, count_ = 0;
+  bool stuck_ = false;
   uint8_t clk_ = 0, last_clk_ = 0, rst_ = 1, in_valid_ = 0, in_ready_ = 0, out_valid_ = 0, flags_out_ = 0;
   uint64_t a_ = 0, b_ = 0, y_out_ = 0;
   PortMap pm_;
 };
 
-RunStats run_queue(int stages, QBug bug, uint64_t n, uint32_t reset_every, uint64_t bug_item = 300) {
+RunStats run_queue(int stages, QBug bug, uint64_t n, uint32_t reset_every, uint64_t bug_item = 300,
+                   int max_latency = 200) {
   SoftQueue dut(Format::parse("e5m10"), stages, bug, bug_item);
   RunOptions o;
   o.test = "soft_queue";
   o.reset_every = reset_every;
-  o.max_latency = 200;
+  o.max_latency = max_latency;
   return run_mul(dut, stages, n, o);
 }
 
@@ -405,6 +408,16 @@ TEST(TbHarness, HandshakeUnitInOrderWithVariableLatency) {
   EXPECT_NE(early.errors[0].report.find("sooner than the latency 2"), std::string::npos) << early.errors[0].report;
   const RunStats lose = run_queue(2, QBug::Lose, 3000, 0);
   EXPECT_FALSE(lose.ok()) << "a lost result went unnoticed";
+  // A unit that stops: with no latency bound the run still ends -- the inputs it never takes, or
+  // (only three inputs, all taken) the results it never gives, are reported.
+  const RunStats stop = run_queue(2, QBug::Stuck, 3000, 0, 10, 0);
+  ASSERT_FALSE(stop.ok());
+  EXPECT_EQ(stop.errors[0].kind, Mismatch::Ready);
+  EXPECT_TRUE(stop.aborted);
+  const RunStats stop3 = run_queue(2, QBug::Stuck, 3, 0, 0, 0);
+  ASSERT_EQ(stop3.errors.size(), 3u);
+  for (const Mismatch& m : stop3.errors) EXPECT_EQ(m.kind, Mismatch::MissingValid);
+  EXPECT_NE(stop3.errors[0].report.find("without its result"), std::string::npos);
 }
 
 TEST(TbOptions, ParsesAndRejects) {

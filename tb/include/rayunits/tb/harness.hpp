@@ -227,6 +227,8 @@ class Scoreboard {
   uint64_t drain_limit() const;
   // End of a run: results of a handshake unit still missing are reported (MissingValid).
   void finish(uint64_t t);
+  // run() gives up on a handshake unit that refused n inputs in a row (more than drain_limit()).
+  void stalled(uint64_t t, uint64_t n);
   int latency() const { return latency_; }
   std::deque<Record>& dropped() { return replay_; }  // inputs dropped by resets, to re-issue
   RunStats& stats() { return st_; }
