@@ -69,11 +69,17 @@ std::vector<int> side_path_plan(const ExactCfg& c, const Req& r) {
   return plan;
 }
 
-// The longest side-path time of one test: the longest requests (three edges with every tie term,
-// the interval; exact_requests.hpp's latency()), one cycle between requests.
+// The longest side-path time of one test: the longest requests by exact_requests.hpp's latency()
+// (three edges with every tie term looked at and all zero, the interval with V != 0), one cycle
+// between requests.
 int worst_test_cycles(const ExactCfg& c) {
-  const int L = (1 << c.f.exp_bits) + c.f.frac_bits - 2, nd = (L + 3 + c.digit - 1) / c.digit;
-  const int edge = 9 * nd + 41 + 3 * (2 * nd + 6) + 1, interval = 20 * nd + 77;
+  Req r;
+  Expect e{0};
+  e.ties = 3;
+  e.all_zero = true;
+  const int edge = latency(c.f, c.digit, false, r, e);
+  r.op = 3;
+  const int interval = latency(c.f, c.digit, false, r, Expect{1});
   return 3 * (edge + 1) + interval + 1;
 }
 // A bound on any test's latency: every test ahead of it in the buffer (Cap) taking the longest.
