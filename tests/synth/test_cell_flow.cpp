@@ -167,6 +167,29 @@ TEST(CellSta, LevelScanByHand) {
   EXPECT_TRUE(run_sta(t.lib, "sta", t.netlist, "ru_sta_harness", 1000, 1, t.dir.path(), "sta2", 60).level_ps.empty());
 }
 
+// A register chain deeper than Tcl's default nesting limit (1000): the level procedure must not
+// recurse per register (it did, and OpenSTA stopped with "too many nested evaluations" on
+// ray_tri_exact e8m23). 1,500 registers; the slowest path (three inverters) ends at the last one.
+TEST(CellSta, DeepRegisterChainHasItsLevel) {
+  if (!have_sta()) GTEST_SKIP() << "sta (opensta) not installed";
+  Tiny t;
+  const int n = 1500;
+  std::ostringstream v;
+  v << "module ru_sta_harness (clk_i, a_i, y_o);\n  input clk_i;\n  input a_i;\n  output y_o;\n";
+  for (int i = 0; i <= n; ++i) v << "  wire q" << i << ";\n";
+  v << "  wire s1, s2, s3;\n  DFFPOSX1 r0 (.CLK(clk_i), .D(a_i), .Q(q0));\n";
+  for (int i = 1; i < n - 1; ++i) v << "  DFFPOSX1 r" << i << " (.CLK(clk_i), .D(q" << i - 1 << "), .Q(q" << i << "));\n";
+  v << "  INVX1 i0 (.A(q" << n - 2 << "), .Y(s1));\n  INVX1 i1 (.A(s1), .Y(s2));\n  INVX1 i2 (.A(s2), .Y(s3));\n"
+    << "  DFFPOSX1 r" << n - 1 << " (.CLK(clk_i), .D(s3), .Q(y_o));\nendmodule\n";
+  write_file_atomic(t.netlist, v.str());
+  const StaResult r = run_sta(t.lib, "sta", t.netlist, "ru_sta_harness", 1000, 1, t.dir.path(), "sta", 120, true);
+  EXPECT_EQ(r.path.end, "r" + std::to_string(n - 1)) << r.report.substr(0, 2000);
+  EXPECT_EQ(r.path.segment, n - 1);
+  ASSERT_EQ(r.level_ps.size(), static_cast<size_t>(n));
+  EXPECT_NEAR(r.level_ps.at(n - 1), 550, 0.5);
+  EXPECT_NEAR(r.level_ps.at(1), 250, 0.5);
+}
+
 TEST(CellSta, Osu018Fo4IsAnInverterDelay) {
   if (!have_sta() || !have_osu018()) GTEST_SKIP() << "sta or osu018 not installed";
   const double fo4 = measure_fo4_ps(cell_library("osu018"), "sta");
