@@ -22,17 +22,21 @@ def main():
     out = sys.argv[1]
     dpi = int(sys.argv[2]) if len(sys.argv) == 3 else 110
     rows = list(csv.DictReader(open(os.path.join(out, "noise_error_vs_bits.csv"))))
-    # the error curve: rows with the exact output width (out_w = 2B - 1)
-    curve = [r for r in rows if int(r["out_w"]) == 2 * int(r["frac_bits"]) - 1]
-    b = [int(r["frac_bits"]) for r in curve]
+    # the error curves: rows with the exact output width (out_w = 2B - 1), one per datapath
+    # (full = ru_noise, trunc = ru_noise_trunc; files without the column are the full datapath)
     fig, ax = plt.subplots(figsize=(6.4, 4.2))
-    ax.semilogy(b, [float(r["max_abs"]) for r in curve], "o-", label="max |error|")
-    ax.semilogy(b, [float(r["rms"]) for r in curve], "s-", label="RMS error")
+    ax2 = ax.twinx()
+    for dp, style in (("full", "-"), ("trunc", ":")):
+        curve = [r for r in rows if int(r["out_w"]) == 2 * int(r["frac_bits"]) - 1 and r.get("datapath", "full") == dp]
+        if not curve:
+            continue
+        b = [int(r["frac_bits"]) for r in curve]
+        ax.semilogy(b, [float(r["max_abs"]) for r in curve], "o" + style, color="tab:blue", label="max |error| " + dp)
+        ax.semilogy(b, [float(r["rms"]) for r in curve], "s" + style, color="tab:orange", label="RMS error " + dp)
+        ax2.plot(b, [float(r["psnr_db"]) for r in curve], "^" + style, color="tab:green", label="PSNR (8-bit image) " + dp)
     ax.set_xlabel("fraction bits B")
     ax.set_ylabel("error (units of N, |N| <= 0.18)")
     ax.grid(True, which="both", alpha=0.3)
-    ax2 = ax.twinx()
-    ax2.plot(b, [float(r["psnr_db"]) for r in curve], "^--", color="tab:green", label="PSNR (8-bit image)")
     ax2.set_ylabel("PSNR dB")
     lines = ax.get_legend_handles_labels()
     lines2 = ax2.get_legend_handles_labels()

@@ -66,7 +66,8 @@ FORMATS = ["e5m10", "e7m16", "e8m23"]
 # (fp_mul e8m23 reaches 5.55 ns at best, so 5 ns cannot be matched; noise reaches 5.9 ns at Stages 5.)
 MATCH_CLOCKS = [6500, 9000]
 MATCH_MARGIN_PS = 500
-MATCH_UNITS = [("noise", None), ("fp_add", "e8m23"), ("fp_mul", "e8m23"), ("fp_dot3", "e8m23")]
+MATCH_UNITS = [("noise", None), ("fp_add", "e8m23"), ("fp_mul", "e8m23"), ("fp_dot3", "e8m23"), ("noise_trunc", None)]
+NOISE_UNITS = ["noise", "noise_trunc"]  # Kensler's datapath and the truncated one (issue 15)
 # Register placement by depth estimates vs by measured delays (synth --placement delay), at equal
 # Stages, fastest mapping: the units with their own placement and these Stages (below the maximum).
 PLACE_UNITS = ["fp_add", "fp_mul", "fp_div", "fp_cmp"]
@@ -89,7 +90,7 @@ def fp_stage_list(unit, fmt):
 def timeout_for(unit, fmt):
     if unit.startswith("ray_tri"):
         return 4 * 3600
-    if unit in ("ray_box", "noise"):
+    if unit in ["ray_box"] + NOISE_UNITS:
         return 3600
     return 1800
 
@@ -127,19 +128,20 @@ def make_runs():
                              name=f"{p}.place_{how}", clocks=[FAST_PS],
                              extra=["--placement", how] if how == "delay" else ["--stage-periods"]))
 
-    def each_point(add):  # the FP units at their Stages list, then noise Stages 1..max
+    def each_point(add):  # the FP units at their Stages list, then the noise units Stages 1..max
         for u in FP_UNITS:
             for f in FORMATS:
                 for s in fp_stage_list(u, f):
                     add(u, f, s)
-        for s in range(1, max_stages("noise", None) + 1):
-            add("noise", None, s)
+        for n in NOISE_UNITS:
+            for s in range(1, max_stages(n, None) + 1):
+                add(n, None, s)
 
     each_point(ends)
     for clk in MATCH_CLOCKS:
         for u, f in MATCH_UNITS:
             smax = max_stages(u, f)
-            st = range(1, smax + 1) if u == "noise" else fp_stage_list(u, f)
+            st = range(1, smax + 1) if u in NOISE_UNITS else fp_stage_list(u, f)
             runs.append(dict(unit=u, fmt=f, stages=None, smax=smax, clock=clk, kind="match",
                              timeout=timeout_for(u, f), point=None,
                              needs=[pname(u, f, s) + ".ends" for s in st],
@@ -181,10 +183,11 @@ def make_runs():
                 placement(u, f, s)
     # Stages 0 of the noise unit: Yosys's elaboration of ru_noise (hierarchy, AST derive) ran 23 min
     # without finishing here, where Stages 1..7 take about a minute: last, with a long time limit.
-    ends("noise", None, 0)
-    runs[-1]["timeout"] = 3 * 3600
-    curve("noise", None, 0)
-    generic("noise", None, 0)
+    for n in NOISE_UNITS:
+        ends(n, None, 0)
+        runs[-1]["timeout"] = 3 * 3600
+        curve(n, None, 0)
+        generic(n, None, 0)
     return runs
 
 

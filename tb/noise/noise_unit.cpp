@@ -1,6 +1,7 @@
-// rayunits tb: test plan of the noise unit ru_noise (rtl/ru_noise.sv) against the bit-accurate
-// model ru::noise::FixedNoise (the registry's golden model), on the generic cycle-by-cycle
-// scoreboard (tb/README.md).
+// rayunits tb: test plan of the noise units ru_noise (rtl/ru_noise.sv, unit `noise`) and
+// ru_noise_trunc (rtl/ru_noise_trunc.sv, unit `noise_trunc`) against the bit-accurate model
+// ru::noise::FixedNoise (the registry's golden model; NoiseDatapath kFull or kTrunc), on the
+// generic cycle-by-cycle scoreboard (tb/README.md). The same plan for both units.
 //
 // Configuration parameters: FracBits, IntBits, OutW (RTL defaults 8, 8, 10) and Stages.
 // Ports: x_i, y_i, z_i (IntBits+FracBits bits each), value_o (OutW bits).
@@ -39,14 +40,18 @@ namespace {
 using ru::noise::FixedConfig;
 using ru::noise::FixedNoise;
 
+// The unit of a datapath and back.
+const char* unit_name(const FixedConfig& c) { return c.datapath == ru::noise::NoiseDatapath::kTrunc ? "noise_trunc" : "noise"; }
+
 FixedConfig noise_config(const ConfigDesc& cfg) {
   // parameters not set take the registry's defaults
-  const synth::UnitSpec& u = synth::find_unit("noise");
+  const synth::UnitSpec& u = synth::find_unit(cfg.unit);
   const synth::UnitConfig uc = unit_config(cfg);
   FixedConfig c;
   c.frac_bits = static_cast<int>(synth::param_value(u, uc, "FracBits"));
   c.int_bits = static_cast<int>(synth::param_value(u, uc, "IntBits"));
   c.out_w = static_cast<int>(synth::param_value(u, uc, "OutW"));
+  c.datapath = cfg.unit == "noise_trunc" ? ru::noise::NoiseDatapath::kTrunc : ru::noise::NoiseDatapath::kFull;
   c.validate();
   return c;
 }
@@ -63,7 +68,7 @@ synth::UnitConfig noise_unit_config(const FixedConfig& c, int stages) {
 class NoiseAdapter final : public RegistryAdapter {
  public:
   NoiseAdapter(const FixedConfig& c, int stages)
-      : RegistryAdapter(synth::find_unit("noise"), noise_unit_config(c, stages)), model_(c) {}
+      : RegistryAdapter(synth::find_unit(unit_name(c)), noise_unit_config(c, stages)), model_(c) {}
   std::string decimal(const FieldInfo& f, std::uint64_t v) const override {
     char b[64];
     if (f.name == "value_o") {
@@ -140,7 +145,8 @@ void add(const Ctx& c, const std::string& suite, const std::string& test, std::f
 SourceFn random_source(const Ctx& c, std::uint64_t n, const std::string& test) {
   const std::uint64_t seed = c.seed(test);
   const synth::UnitConfig uc = noise_unit_config(c.fc, c.stages);
-  return [seed, uc, n] { return registry_random_source(synth::find_unit("noise"), uc, seed, n); };
+  const std::string unit = unit_name(c.fc);
+  return [seed, uc, n, unit] { return registry_random_source(synth::find_unit(unit), uc, seed, n); };
 }
 
 SourceFn negative_source(const Ctx& c, std::uint64_t n) {
@@ -297,7 +303,7 @@ void add_selftests(const Ctx& c) {
         }
       };
       ru::noise::TableSet tab = ru::noise::builtin_tables();
-      tab.grad64_q16[9][2] += 1 << (16 - fc.frac_bits);
+      tab.grad64_q16[9][2] += 1 << (16 - FixedNoise(fc).grad_frac_bits());  // one LSB of the unit's table
       return std::unique_ptr<UnitAdapter>(new Bad(fc, st_, tab));
     };
     std::cerr << note;
@@ -330,6 +336,7 @@ void noise_plan(const ConfigDesc& cfg) {
 }
 
 PlanRegistrar r_noise("noise", noise_plan);
+PlanRegistrar r_noise_trunc("noise_trunc", noise_plan);
 
 }  // namespace
 }  // namespace ru::tb

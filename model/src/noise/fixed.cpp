@@ -1,6 +1,7 @@
 // Bit-accurate model of rtl/ru_noise.sv; see rayunits/noise/fixed.hpp and docs/NOISE.md.
 #include "rayunits/noise/fixed.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -11,6 +12,9 @@ namespace ru::noise {
 void FixedConfig::validate() const {
   if (frac_bits < 4 || frac_bits > 16)
     throw std::invalid_argument("noise: fraction bits must be 4..16, got " + std::to_string(frac_bits));
+  if (datapath == NoiseDatapath::kTrunc && frac_bits < 5)
+    throw std::invalid_argument("noise: the truncated datapath needs 5..16 fraction bits, got " +
+                                std::to_string(frac_bits));
   if (int_bits < 1 || int_bits > 24)
     throw std::invalid_argument("noise: input integer bits must be 1..24, got " + std::to_string(int_bits));
   if (out_w < 2 || out_w > 2 * frac_bits + 6)
@@ -20,7 +24,8 @@ void FixedConfig::validate() const {
 }
 
 std::string FixedConfig::describe() const {
-  return "B=" + std::to_string(frac_bits) + " int=" + std::to_string(int_bits) + " out=" + std::to_string(out_w);
+  return "B=" + std::to_string(frac_bits) + " int=" + std::to_string(int_bits) + " out=" + std::to_string(out_w) +
+         (datapath == NoiseDatapath::kTrunc ? " trunc" : "");
 }
 
 int narrow_gradient(std::int32_t q16, int frac_bits) {
@@ -29,13 +34,55 @@ int narrow_gradient(std::int32_t q16, int frac_bits) {
   return (q16 + (1 << (sh - 1))) >> sh;  // arithmetic shift = floor
 }
 
+int narrow_gradient_clamped(std::int32_t q16, int grad_frac_bits) {
+  const int m = (1 << grad_frac_bits) - 1;
+  return std::clamp(narrow_gradient(q16, grad_frac_bits), -m, m);
+}
+
+namespace {
+
+// Constant correction of a truncated array (docs/NOISE.md, "The truncated datapath"): half of
+// the result's last place (round to nearest) plus the expected value E of the dropped
+// partial-product bits rounded to column K (the lowest kept one); e4 = 4 E (an integer: each
+// dropped bit is 1 with probability 1/4, or 1/2 on a squarer's diagonal).
+std::int64_t correction(int r, int k, std::int64_t e4) {
+  std::int64_t c = std::int64_t{1} << (r - 1);
+  if (k > 0) c += (std::int64_t{1} << k) * ((e4 + (std::int64_t{1} << (k + 1))) >> (k + 2));
+  return c;
+}
+
+}  // namespace
+
 FixedNoise::FixedNoise(FixedConfig c, const TableSet& t) : c_(c) {
   c_.validate();
   const std::array<std::uint8_t, 256>* p[3] = {&t.perm_x, &t.perm_y, &t.perm_z};
   for (int a = 0; a < 3; ++a)
     for (int i = 0; i < 256; ++i) hash_[a][i] = ((*p[a])[(i + 1) & 255] % 64) << 6 | ((*p[a])[i] % 64);
   for (int i = 0; i < 64; ++i)
-    for (int a = 0; a < 3; ++a) grad_[i][a] = narrow_gradient(t.grad64_q16[i][a], c_.frac_bits);
+    for (int a = 0; a < 3; ++a)
+      grad_[i][a] = trunc() ? narrow_gradient_clamped(t.grad64_q16[i][a], grad_frac_bits())
+                            : narrow_gradient(t.grad64_q16[i][a], c_.frac_bits);
+  if (trunc()) {
+    const int B = c_.frac_bits, gb = grad_frac_bits();
+    std::int64_t e_sq = 0, e_mul = 0, e_dot = 0, dmax_dot = 0;
+    const int k_sq = B - 2, k_mul = B - 4, k_dot = B - 3;
+    for (int i = 0; i < B; ++i) {
+      if (2 * i < k_sq) e_sq += 2 * (std::int64_t{1} << (2 * i));
+      for (int j = i + 1; j < B; ++j)
+        if (i + j + 1 < k_sq) e_sq += std::int64_t{1} << (i + j + 1);
+      for (int j = 0; j < B; ++j)
+        if (i + j < k_mul) e_mul += std::int64_t{1} << (i + j);
+      for (int j = 0; j < gb; ++j)
+        if (i + j < k_dot) {
+          e_dot += 3 * (std::int64_t{1} << (i + j));
+          dmax_dot += 3 * (std::int64_t{1} << (i + j));
+        }
+    }
+    corr_sq_ = correction(B, k_sq, e_sq);
+    corr_mul_ = correction(B - 2, k_mul, e_mul);
+    corr_dot_ = correction(B - 1, k_dot, e_dot);
+    dot_slack_ = std::max(corr_dot_, dmax_dot + (std::int64_t{1} << (B - 1)) - 1 - corr_dot_);
+  }
 }
 
 namespace {
@@ -59,9 +106,13 @@ bool fits_signed(std::int64_t v, int bits) { return v >= -(1ll << (bits - 1)) &&
 }  // namespace
 
 std::int64_t FixedNoise::eval(std::int64_t x, std::int64_t y, std::int64_t z, FixedTrace* tr) const {
+  const std::int64_t in[3] = {sext(x, c_.in_w()), sext(y, c_.in_w()), sext(z, c_.in_w())};
+  return trunc() ? eval_trunc(in, tr) : eval_full(in, tr);
+}
+
+std::int64_t FixedNoise::eval_full(const std::int64_t in[3], FixedTrace* tr) const {
   const int B = c_.frac_bits;
   const std::int64_t one = 1ll << B;
-  const std::int64_t in[3] = {sext(x, c_.in_w()), sext(y, c_.in_w()), sext(z, c_.in_w())};
   int cell[3], frac[3], hsh[3][2], sq[3][2];
   for (int a = 0; a < 3; ++a) {
     // (1) Split: cell = floor(u) mod 256 (arithmetic shift, low 8 bits), frac = low B bits.
@@ -124,9 +175,14 @@ std::int64_t FixedNoise::eval(std::int64_t x, std::int64_t y, std::int64_t z, Fi
       tr->contrib[c] = contrib;
     }
   }
+  return finish(sum, 2 * B, tr);
+}
+
+std::int64_t FixedNoise::finish(std::int64_t sum, int sum_frac_bits, FixedTrace* tr) const {
   if (!fits_signed(sum, sum_bits())) range_fail("sum", sum, c_);
-  // (13) Output scaling: value = floor(sum * 2^(out_w + 1 - 2B)), then saturation to out_w bits.
-  const int sh = 2 * B - (c_.out_w + 1);
+  // (13) Output scaling: value = floor(sum * 2^(out_w + 1 - F)) (F = sum_frac_bits: 2B for kFull,
+  // 2B - 2 for kTrunc), then saturation to out_w bits.
+  const int sh = sum_frac_bits - (c_.out_w + 1);
   std::int64_t v = sh >= 0 ? (sum >> sh) : sum * (1ll << -sh);
   const std::int64_t vmax = (1ll << (c_.out_w - 1)) - 1, vmin = -(1ll << (c_.out_w - 1));
   bool sat = v > vmax || v < vmin;
@@ -138,6 +194,110 @@ std::int64_t FixedNoise::eval(std::int64_t x, std::int64_t y, std::int64_t z, Fi
     tr->saturated = sat;
   }
   return v;
+}
+
+// ---- the truncated datapath (kTrunc, rtl/ru_noise_trunc.sv; docs/NOISE.md) --------------------
+
+std::int64_t FixedNoise::trunc_square(std::int64_t x) const {
+  // Folded squarer: x_i (column 2i) and x_i x_j for i < j (column i + j + 1); columns >= K kept.
+  const int B = c_.frac_bits, k = B - 2;
+  std::int64_t s = 0;
+  for (int i = 0; i < B; ++i) {
+    const std::int64_t xi = (x >> i) & 1;
+    if (2 * i >= k) s += xi << (2 * i);
+    for (int j = i + 1; j < B; ++j)
+      if (i + j + 1 >= k) s += (xi & ((x >> j) & 1)) << (i + j + 1);
+  }
+  return (s + corr_sq_) >> B;
+}
+
+std::int64_t FixedNoise::trunc_t5x4(std::int64_t t4, std::int64_t t) const {
+  const int B = c_.frac_bits, k = B - 4;
+  std::int64_t s = 0;
+  for (int i = 0; i < B; ++i)
+    for (int j = 0; j < B; ++j)
+      if (i + j >= k) s += (((t4 >> i) & 1) & ((t >> j) & 1)) << (i + j);
+  return (s + corr_mul_) >> (B - 2);
+}
+
+std::int64_t FixedNoise::trunc_dot(const int frac[3], const std::array<int, 3>& g, int corner) const {
+  // (f_i - c_i) g_i = f_i gl_i - gs_i f_i 2^Gb - c_i g_i 2^B with g_i = -gs_i 2^Gb + gl_i (two's
+  // complement, Gb + 1 bits): three truncated unsigned arrays f_i x gl_i (columns >= K) and exact
+  // rows; B + Gb fraction bits, then R = B + Gb - (B - 2) = B - 1.
+  const int B = c_.frac_bits, gb = grad_frac_bits(), k = B - 3;
+  std::int64_t s = 0;
+  for (int a = 0; a < 3; ++a) {
+    const std::int64_t f = frac[a], gv = g[a], gl = gv & ((std::int64_t{1} << gb) - 1);
+    for (int i = 0; i < B; ++i)
+      for (int j = 0; j < gb; ++j)
+        if (i + j >= k) s += (((f >> i) & 1) & ((gl >> j) & 1)) << (i + j);
+    if (gv < 0) s -= f << gb;
+    if ((corner >> a) & 1) s -= gv << B;
+  }
+  return (s + corr_dot_) >> (B - 1);
+}
+
+std::int64_t FixedNoise::eval_trunc(const std::int64_t in[3], FixedTrace* tr) const {
+  const int B = c_.frac_bits;
+  const std::int64_t one = 1ll << B;
+  int cell[3], frac[3], hsh[3][2], sq[3][2];
+  for (int a = 0; a < 3; ++a) {
+    // (1) split, (2) hash lookup as kFull.
+    cell[a] = static_cast<int>((in[a] >> B) & 255);
+    frac[a] = static_cast<int>(in[a] & (one - 1));
+    const int e = hash_[a][cell[a]];
+    hsh[a][0] = e & 63;
+    hsh[a][1] = e >> 6;
+    // (3) One exact squarer per axis: sq0 = floor(f^2 / 2^B); (1 - f)^2 = f^2 + 1 - 2f gives
+    // sq1 = sq0 + 2^B - 2f exactly (the added term is a multiple of the last place).
+    const std::int64_t f = frac[a];
+    sq[a][0] = static_cast<int>((f * f) >> B);
+    sq[a][1] = static_cast<int>(sq[a][0] + one - 2 * f);
+  }
+  if (tr) {
+    for (int a = 0; a < 3; ++a) {
+      tr->cell[a] = cell[a];
+      tr->frac[a] = frac[a];
+      for (int k = 0; k < 2; ++k) {
+        tr->hash[a][k] = hsh[a][k];
+        tr->sq[a][k] = sq[a][k];
+      }
+    }
+  }
+  std::int64_t sum = 0;
+  for (int c = 0; c < 8; ++c) {
+    const int cb[3] = {c & 1, (c >> 1) & 1, c >> 2};
+    // (4) d exact; t = 1 - d in B bits: 0 outside the support, 1 - 2^-B at d = 0.
+    const std::int64_t d = sq[0][cb[0]] + sq[1][cb[1]] + sq[2][cb[2]];
+    const std::int64_t t = d >= one ? 0 : std::min(one - d, one - 1);
+    // (5)-(8) t^2, t^4 by truncated squarers; w = t^4 (4t - 3) = 4 t^4 t - 3 t^4 with the product
+    // 4 t^4 t from a truncated multiplier (B fraction bits: the multiplier keeps B + 2).
+    const std::int64_t t2 = trunc_square(t), t4 = trunc_square(t2), p = trunc_t5x4(t4, t);
+    if (t2 >= one || t4 >= one) range_fail("t2/t4", std::max(t2, t4), c_);
+    const std::int64_t w = p - 3 * t4;
+    if (!fits_signed(w, w_bits())) range_fail("w", w, c_);
+    // (9) gradient (B - 3 fraction bits); (10) dot product with B - 2 fraction bits.
+    const int h = hsh[0][cb[0]] ^ hsh[1][cb[1]] ^ hsh[2][cb[2]];
+    const std::array<int, 3>& g = grad_[h];
+    const std::int64_t dt = trunc_dot(frac, g, c);
+    if (!fits_signed(dt, dot_bits())) range_fail("dot", dt, c_);
+    // (11)-(12) w * dot, summed exactly (2B - 2 fraction bits).
+    const std::int64_t contrib = w * dt;
+    sum += contrib;
+    if (tr) {
+      tr->d[c] = static_cast<int>(d);
+      tr->t[c] = static_cast<int>(t);
+      tr->t2[c] = static_cast<int>(t2);
+      tr->t4[c] = static_cast<int>(t4);
+      tr->t5[c] = static_cast<int>(p);
+      tr->w[c] = static_cast<int>(w);
+      tr->h[c] = h;
+      tr->g[c] = g;
+      tr->dot[c] = dt;
+      tr->contrib[c] = contrib;
+    }
+  }
+  return finish(sum, B + dot_frac_bits(), tr);
 }
 
 double FixedNoise::to_real(std::int64_t value) const { return std::ldexp(static_cast<double>(value), -(c_.out_w + 1)); }

@@ -133,12 +133,21 @@ double bound_fixed(const FixedNoise& f) {
     const auto& g = f.grad(h);
     g2max = std::max<std::int64_t>(g2max, std::int64_t{g[0]} * g[0] + std::int64_t{g[1]} * g[1] + std::int64_t{g[2]} * g[2]);
   }
+  const bool trunc = f.config().datapath == NoiseDatapath::kTrunc;
   // |w| as a function of the (truncated) squared distance, exactly as the model computes it
   std::vector<std::int64_t> wabs(3 * one + 1);
   for (std::int64_t d = 0; d <= 3 * one; ++d) {
-    std::int64_t t = d < one ? one - d : 0, t2 = (t * t) >> B, t4 = (t2 * t2) >> B, t5 = (t4 * t) >> B;
-    wabs[d] = std::llabs(4 * t5 - 3 * t4);
+    if (trunc) {
+      const std::int64_t t = d >= one ? 0 : std::min(one - d, one - 1), t4 = f.trunc_square(f.trunc_square(t));
+      wabs[d] = std::llabs(f.trunc_t5x4(t4, t) - 3 * t4);
+    } else {
+      std::int64_t t = d < one ? one - d : 0, t2 = (t * t) >> B, t4 = (t2 * t2) >> B, t5 = (t4 * t) >> B;
+      wabs[d] = std::llabs(4 * t5 - 3 * t4);
+    }
   }
+  // |dot| <= (|p| + slack) / 2^R with p the exact sum (units 2^-(B + Gb)); kFull: the floor only
+  const int r = trunc ? B - 1 : B;
+  const std::int64_t slack = trunc ? f.trunc_dot_slack() : (std::int64_t{1} << B) - 1;
   auto isqrt_ceil = [](std::uint64_t n) {
     std::uint64_t r = static_cast<std::uint64_t>(std::sqrt(static_cast<double>(n)));
     while (r * r > n) --r;
@@ -166,12 +175,12 @@ double bound_fixed(const FixedNoise& f) {
           if (wabs[d] == 0) continue;
           std::uint64_t A2 = static_cast<std::uint64_t>(a2[bx][x] + a2[by][y] + a2[bz][z]);
           std::int64_t pmax = static_cast<std::int64_t>(isqrt_ceil(A2 * static_cast<std::uint64_t>(g2max)));
-          std::int64_t dmax = (pmax + one - 1) >> B;  // ceil(|p| / 2^B) >= |floor(p / 2^B)|
+          std::int64_t dmax = (pmax + slack) >> r;  // kFull: ceil(|p| / 2^B) >= |floor(p / 2^B)|
           s += wabs[d] * dmax;
         }
         best = std::max(best, s);
       }
-  return std::ldexp(static_cast<double>(best), -2 * B);
+  return std::ldexp(static_cast<double>(best), -(B + f.dot_frac_bits()));
 }
 
 std::vector<NoiseSpec> study_noises(const FixedNoise& fixed) {
@@ -200,6 +209,17 @@ std::vector<NoiseSpec> study_noises(const FixedNoise& fixed) {
                [fx](double x, double y, double z) {
                  return fx->to_real(fx->eval(fx->quantize(x), fx->quantize(y), fx->quantize(z)));
                }});
+  // the truncated datapath (ru_noise_trunc) at the same widths
+  FixedConfig tc = fixed.config();
+  tc.datapath = NoiseDatapath::kTrunc;
+  if (tc.frac_bits >= 5) {
+    auto tx = std::make_shared<FixedNoise>(tc);
+    v.push_back({"fixed_trunc_b" + std::to_string(tc.frac_bits),
+                 "fixed-point truncated datapath (ru_noise_trunc), " + tc.describe() + ", cell units", Slice::kAxis, 1,
+                 [tx](double x, double y, double z) {
+                   return tx->to_real(tx->eval(tx->quantize(x), tx->quantize(y), tx->quantize(z)));
+                 }});
+  }
   return v;
 }
 
@@ -286,6 +306,10 @@ StudyResult run_study_result(const StudyOptions& o) {
   FixedNoise fixed(fcfg);
   const Bound bh = bound_half_cell(), bf = bound_full(), bp = bound_perlin();
   const double bfx = bound_fixed(fixed);
+  FixedConfig tcfg = fcfg;
+  tcfg.datapath = NoiseDatapath::kTrunc;
+  FixedNoise fixed_trunc(tcfg);
+  const double bft = bound_fixed(fixed_trunc);
 
   // ---- spectra ----
   std::ofstream sp(out / "noise_spectra.csv");
@@ -345,24 +369,29 @@ StudyResult run_study_result(const StudyOptions& o) {
 
   // ---- fixed-point error vs fraction bits ----
   std::ofstream er(out / "noise_error_vs_bits.csv");
-  er << "frac_bits,out_w,samples,max_abs,rms,mean,psnr_db,at_output_limit\n";
+  er << "frac_bits,out_w,samples,max_abs,rms,mean,psnr_db,at_output_limit,datapath\n";
   md << "## Fixed-point model vs float half-resolution reference\n\n"
      << o.error_samples << " random inputs per row (cells -128..127, every fraction equally likely), error in units "
         "of N (cell units, |N| <= " << fmt("%.5f", bh.value)
      << "); PSNR of a 512x512 8-bit image ([-bound, bound] -> 0..255). out_w = 2B-1 keeps the sum exact; the last "
         "row is the unit's default output width.\n\n"
-     << "| frac bits | out_w | max abs | RMS | mean | PSNR dB |\n|---|---|---|---|---|---|\n";
+     << "Datapath `full` is ru_noise (Kensler's), `trunc` ru_noise_trunc (docs/NOISE.md).\n\n"
+     << "| datapath | frac bits | out_w | max abs | RMS | mean | PSNR dB |\n|---|---|---|---|---|---|---|\n";
   std::vector<FixedConfig> cfgs;
-  for (int b = o.min_bits; b <= o.max_bits; ++b) cfgs.push_back({b, 8, 2 * b - 1});
-  cfgs.push_back(FixedConfig{});
+  for (const NoiseDatapath dp : {NoiseDatapath::kFull, NoiseDatapath::kTrunc}) {
+    for (int b = o.min_bits; b <= o.max_bits; ++b)
+      if (dp == NoiseDatapath::kFull || b >= 5) cfgs.push_back({b, 8, 2 * b - 1, dp});
+    cfgs.push_back(FixedConfig{8, 8, 10, dp});
+  }
   for (const FixedConfig& c : cfgs) {
     progress(o, "fixed-point error " + c.describe() + " (" + fmt("%.1f", elapsed()) + " s)");
     ErrorRow r = fixed_error(c, o.error_samples, o.seed, bh.value, 512);
+    const char* dp_name = c.datapath == NoiseDatapath::kTrunc ? "trunc" : "full";
     res.errors.push_back(r);
     er << r.frac_bits << "," << r.out_w << "," << r.samples << "," << fmt("%.6g", r.max_abs) << ","
        << fmt("%.6g", r.rms) << "," << fmt("%.6g", r.mean) << "," << fmt("%.4f", r.psnr_db) << "," << r.saturated
-       << "\n";
-    md << "| " << r.frac_bits << " | " << r.out_w << " | " << fmt("%.5f", r.max_abs) << " | " << fmt("%.6f", r.rms)
+       << "," << dp_name << "\n";
+    md << "| " << dp_name << " | " << r.frac_bits << " | " << r.out_w << " | " << fmt("%.5f", r.max_abs) << " | " << fmt("%.6f", r.rms)
        << " | " << fmt("%.2e", r.mean) << " | " << fmt("%.2f", r.psnr_db) << " |\n";
   }
 
@@ -388,6 +417,11 @@ StudyResult run_study_result(const StudyOptions& o) {
          return fixed.to_real(fixed.eval(fixed.quantize(x), fixed.quantize(y), fixed.quantize(z)));
        },
        bfx, Vec3{}},
+      {"fixed_trunc_b8",
+       [&](double x, double y, double z) {
+         return fixed_trunc.to_real(fixed_trunc.eval(fixed_trunc.quantize(x), fixed_trunc.quantize(y), fixed_trunc.quantize(z)));
+       },
+       bft, Vec3{}},
   };
   for (const RangeCase& c : rc) {
     progress(o, std::string("output range of ") + c.name + " (" + fmt("%.1f", elapsed()) + " s)");
@@ -400,7 +434,7 @@ StudyResult run_study_result(const StudyOptions& o) {
       lo = std::min(lo, v);
       hi = std::max(hi, v);
     }
-    std::string where = std::string(c.name) == "fixed_b8"
+    std::string where = std::string(c.name).rfind("fixed_", 0) == 0
                             ? "exhaustive over one cell (rigorous)"
                             : "at (" + fmt("%.4f", c.at.x) + " " + fmt("%.4f", c.at.y) + " " + fmt("%.4f", c.at.z) + ")";
     rg << c.name << "," << o.range_samples << "," << fmt("%.9g", lo) << "," << fmt("%.9g", hi) << ","

@@ -431,13 +431,24 @@ noise::FixedConfig noise_config(const UnitConfig& c) {
 }
 }  // namespace
 
-GoldenEval noise_golden(const UnitConfig& c) {
-  auto m = std::make_shared<noise::FixedNoise>(noise_config(c));
+namespace {
+GoldenEval noise_model(noise::FixedConfig fc) {
+  auto m = std::make_shared<noise::FixedNoise>(fc);
   const uint64_t mask = (1ull << m->config().out_w) - 1;
   return [m, mask](const uint64_t* in, uint64_t* out) {
     const int64_t v = m->eval(static_cast<int64_t>(in[0]), static_cast<int64_t>(in[1]), static_cast<int64_t>(in[2]));
     out[0] = static_cast<uint64_t>(v) & mask;
   };
+}
+}  // namespace
+
+GoldenEval noise_golden(const UnitConfig& c) { return noise_model(noise_config(c)); }
+
+GoldenEval noise_trunc_golden(const UnitConfig& c) {
+  noise::FixedConfig fc = noise_config(c);
+  fc.datapath = noise::NoiseDatapath::kTrunc;
+  fc.validate();
+  return noise_model(fc);
 }
 
 InputGen noise_inputs(const UnitConfig& c, uint64_t seed) {

@@ -455,17 +455,21 @@ std::vector<UnitSpec> make_units() {
   // file in $RU_DP_DESIGNS is the unit dp_<stem>, RTL ru_dp_<stem>.sv/.f (`rayunits dp emit`), in
   // the RTL directory the caller names (`rayunits rtl --rtl DIR`, `synth --rtl DIR`).
   for (auto& s : runtime_dp_units()) u.push_back(std::move(s));
-  {
-    // Kensler's gradient noise unit (fixed point, no floating-point format): an example of a
-    // unit with its own parameters (--param FracBits=8 ...).
+  // Kensler's gradient noise unit (fixed point, no floating-point format): an example of a unit
+  // with its own parameters (--param FracBits=8 ...). Two datapaths, same ports and parameters:
+  // `noise` (ru_noise, Kensler's: every product exact, then floored; the baseline) and
+  // `noise_trunc` (ru_noise_trunc, issue 15: truncated squarers and multipliers, narrower widths;
+  // docs/NOISE.md).
+  for (const bool trunc : {false, true}) {
     UnitSpec s;
-    s.name = "noise";
-    s.top = "ru_noise";
-    s.summary = "fixed-point gradient noise (Kensler sec. 4.9-4.13), one result per clock";
-    s.filelist = "ru_noise.f";
+    s.name = trunc ? "noise_trunc" : "noise";
+    s.top = trunc ? "ru_noise_trunc" : "ru_noise";
+    s.summary = trunc ? "fixed-point gradient noise, truncated datapath (smaller; docs/NOISE.md), one result per clock"
+                      : "fixed-point gradient noise (Kensler sec. 4.9-4.13), one result per clock";
+    s.filelist = s.top + ".f";
     s.uses_format = false;
     s.params = {{"Stages", [](const UnitConfig& c) { return static_cast<long long>(c.stages); }}};
-    s.extra_params = {{"FracBits", 8, 4, 16, "fraction bits of the coordinates"},
+    s.extra_params = {{"FracBits", 8, trunc ? 5 : 4, 16, "fraction bits of the coordinates"},
                       {"IntBits", 8, 1, 24, "integer bits of the coordinates (incl. sign)"},
                       {"OutW", 10, 2, 38, "output width"}};
     s.ports = control_ports();
@@ -474,17 +478,24 @@ std::vector<UnitSpec> make_units() {
                        in("z_i", "FracBits+IntBits", "z, signed fixed point"), out_valid(),
                        out("value_o", "OutW", "noise value, signed")})
       s.ports.push_back(std::move(p));
-    s.max_stages_expr = "7";  // 8 segments (rtl/ru_noise.sv)
-    s.golden = models::noise_golden;
+    s.max_stages_expr = "7";  // 8 segments (rtl/ru_noise.sv, rtl/ru_noise_trunc.sv)
+    s.golden = trunc ? models::noise_trunc_golden : models::noise_golden;
     s.random_inputs = models::noise_inputs;
-    s.tests = {"s0:selftest", "s4:selftest", "s2:FracBits=5:IntBits=3:OutW=12", "smax+1:FracBits=16:IntBits=24:OutW=38"};
-    s.long_tests = {"s1", "s2", "s3", "s5", "s6", "s7", "s9:selftest", "s1:FracBits=4:IntBits=1:OutW=2",
-                    "s3:FracBits=12:IntBits=10:OutW=20"};
-    s.check = [](const UnitConfig& c) {
-      const UnitSpec& n = find_unit("noise");
+    if (trunc) {
+      s.tests = {"s4:selftest", "s2:FracBits=5:IntBits=3:OutW=12", "smax+1:FracBits=16:IntBits=24:OutW=38"};
+      s.long_tests = {"s0:selftest", "s1", "s2", "s3", "s5", "s6", "s7", "s1:FracBits=5:IntBits=1:OutW=2",
+                      "s3:FracBits=12:IntBits=10:OutW=20"};
+    } else {
+      s.tests = {"s0:selftest", "s4:selftest", "s2:FracBits=5:IntBits=3:OutW=12", "smax+1:FracBits=16:IntBits=24:OutW=38"};
+      s.long_tests = {"s1", "s2", "s3", "s5", "s6", "s7", "s9:selftest", "s1:FracBits=4:IntBits=1:OutW=2",
+                      "s3:FracBits=12:IntBits=10:OutW=20"};
+    }
+    const std::string name = s.name;
+    s.check = [name](const UnitConfig& c) {
+      const UnitSpec& n = find_unit(name);
       const long long fb = param_value(n, c, "FracBits"), ow = param_value(n, c, "OutW");
       if (ow > 2 * fb + 6)
-        throw SynthError("noise: OutW must be <= 2*FracBits+6 = " + std::to_string(2 * fb + 6) + ", got " +
+        throw SynthError(name + ": OutW must be <= 2*FracBits+6 = " + std::to_string(2 * fb + 6) + ", got " +
                          std::to_string(ow));
     };
     u.push_back(std::move(s));

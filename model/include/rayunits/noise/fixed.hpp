@@ -17,15 +17,23 @@
 
 namespace ru::noise {
 
+// Which datapath (docs/NOISE.md): kFull is rtl/ru_noise.sv (every product exact, then floored:
+// Kensler's datapath, the baseline every figure is compared with); kTrunc is rtl/ru_noise_trunc.sv
+// (the smaller unit of issue 15: one squarer per axis, t in B bits, truncated squarers and
+// multipliers with constant correction, gradients with B-3 fraction bits, w = t^4 (4t - 3) in one
+// product, the eight contributions summed exactly).
+enum class NoiseDatapath { kFull, kTrunc };
+
 struct FixedConfig {
   int frac_bits = 8;  // B: fraction bits of the inputs and of every internal quantity, 4..16
   int int_bits = 8;   // integer bits of each input incl. sign, 1..24 (cells wrap modulo 256)
   int out_w = 10;     // width of the output word, 2..2*frac_bits+6
+  NoiseDatapath datapath = NoiseDatapath::kFull;
 
   int in_w() const { return int_bits + frac_bits; }
   // Throws std::invalid_argument with a one-line message naming the bad field.
   void validate() const;
-  std::string describe() const;  // "B=8 int=8 out=10"
+  std::string describe() const;  // "B=8 int=8 out=10" (+ " trunc" for the truncated datapath)
 };
 
 // Intermediate values of one evaluation (for tests, the RTL testbench's diagnostics, docs).
@@ -34,7 +42,8 @@ struct FixedTrace {
   int frac[3];                 // B-bit fraction per axis
   int hash[3][2];              // 6-bit hash of cell and cell + 1 per axis
   int sq[3][2];                // truncated squares per axis and corner bit
-  int d[8], t[8], t2[8], t4[8], t5[8], w[8];  // per corner c = cx + 2 cy + 4 cz
+  int d[8], t[8], t2[8], t4[8], t5[8], w[8];  // per corner c = cx + 2 cy + 4 cz (kTrunc: t5 = the
+                                              // product t^4 t with B+2 fraction bits)
   int h[8];                    // gradient index per corner
   std::array<int, 3> g[8];     // gradient (B fraction bits) per corner
   std::int64_t dot[8];         // floor(offset . g / 2^B)
@@ -63,15 +72,47 @@ class FixedNoise {
   const std::array<int, 3>& grad(int idx) const { return grad_[idx & 63]; }       // B frac bits
 
   // Internal ranges the RTL widths rely on (checked on every evaluation; see docs/NOISE.md).
-  int w_bits() const { return c_.frac_bits + 2; }    // signed
-  int dot_bits() const { return c_.frac_bits + 2; }  // signed
-  int sum_bits() const { return 2 * c_.frac_bits + 6; }
+  int w_bits() const { return trunc() ? c_.frac_bits + 1 : c_.frac_bits + 2; }  // signed
+  // signed; kTrunc: |dot| < 2 needs B bits from B = 8 on (the table's largest narrowed norm and
+  // the truncation's slack: NoiseTrunc.DotRangeByCauchySchwarz), one more below
+  int dot_bits() const { return trunc() ? (c_.frac_bits >= 8 ? c_.frac_bits : c_.frac_bits + 1) : c_.frac_bits + 2; }
+  int sum_bits() const { return trunc() ? w_bits() + dot_bits() + 2 : 2 * c_.frac_bits + 6; }
+  // Fraction bits of the gradients (kFull: B; kTrunc: B - 3) and of the dot product (B; B - 2).
+  int grad_frac_bits() const { return trunc() ? c_.frac_bits - 3 : c_.frac_bits; }
+  int dot_frac_bits() const { return trunc() ? c_.frac_bits - 2 : c_.frac_bits; }
+
+  // The truncated datapath's arithmetic (kTrunc), public for the tests and docs/NOISE.md: every
+  // truncated array keeps the partial-product bits of the columns >= R - 2 (two guard columns
+  // below the result's last bit), adds the constant correction C and shifts right by R.
+  //   trunc_square(x)       x an unsigned B-bit value: (x^2 folded squarer, R = B)
+  //   trunc_t5x4(t4, t)     4 t^4 t with B fraction bits: (t4 * t, R = B - 2)
+  //   dot(f, g, corner)     sum of (f_i - c_i) g_i with B - 2 fraction bits (R = B - 1)
+  std::int64_t trunc_square(std::int64_t x) const;
+  std::int64_t trunc_t5x4(std::int64_t t4, std::int64_t t) const;
+  std::int64_t trunc_dot(const int frac[3], const std::array<int, 3>& g, int corner) const;
+  // Correction constants (the RTL computes the same by the same formula: scoreboard).
+  std::int64_t corr_square() const { return corr_sq_; }
+  std::int64_t corr_t5x4() const { return corr_mul_; }
+  std::int64_t corr_dot() const { return corr_dot_; }
+  // |trunc_dot - exact| * 2^R <= this (R = B - 1; in units of the exact sum): the correction or
+  // the dropped bits' largest value minus it, plus the final floor (the range bound uses it).
+  std::int64_t trunc_dot_slack() const { return dot_slack_; }
 
  private:
+  bool trunc() const { return c_.datapath == NoiseDatapath::kTrunc; }
+  std::int64_t eval_full(const std::int64_t in[3], FixedTrace* trace) const;
+  std::int64_t eval_trunc(const std::int64_t in[3], FixedTrace* trace) const;
+  std::int64_t finish(std::int64_t sum, int sum_frac_bits, FixedTrace* trace) const;
+
   FixedConfig c_;
   int hash_[3][256];
   std::array<int, 3> grad_[64];
+  std::int64_t corr_sq_ = 0, corr_mul_ = 0, corr_dot_ = 0, dot_slack_ = 0;
 };
+
+// The kTrunc gradient narrowing: round(q16 / 2^(16 - Gb)) as narrow_gradient, then clamped to
+// +-(2^Gb - 1) (the table's largest component, 0.99699, rounds to 1.0 for Gb <= 7).
+int narrow_gradient_clamped(std::int32_t q16, int grad_frac_bits);
 
 // The gradient narrowing of docs/NOISE.md: round(q16 / 2^(16 - B)), ties toward +infinity.
 int narrow_gradient(std::int32_t q16, int frac_bits);

@@ -68,6 +68,7 @@ InputGen ray_tri_exact_inputs(const UnitConfig& c, uint64_t seed);
 GoldenEval dp_golden(const UnitConfig& c, std::shared_ptr<const dp::Graph> g);
 // noise: x y z -> value
 GoldenEval noise_golden(const UnitConfig& c);
+GoldenEval noise_trunc_golden(const UnitConfig& c);  // the truncated datapath (ru_noise_trunc)
 InputGen noise_inputs(const UnitConfig& c, uint64_t seed);
 
 }  // namespace ru::synth::models
