@@ -292,7 +292,9 @@ TEST(NoiseTrunc, DotRangeByCauchySchwarz) {
     const double dmax = std::floor((pmax + static_cast<double>(f.trunc_dot_slack())) / std::ldexp(1.0, B - 1));
     EXPECT_LT(dmax, std::ldexp(1.0, f.dot_bits() - 1)) << B;
     // and one bit fewer would not be proven (the width is not wider than this argument needs)
-    if (B >= 8) EXPECT_GE(dmax, std::ldexp(1.0, f.dot_bits() - 2)) << B;
+    if (B >= 8) {
+      EXPECT_GE(dmax, std::ldexp(1.0, f.dot_bits() - 2)) << B;
+    }
   }
 }
 

@@ -110,38 +110,63 @@ std::int64_t FixedNoise::eval(std::int64_t x, std::int64_t y, std::int64_t z, Fi
   return trunc() ? eval_trunc(in, tr) : eval_full(in, tr);
 }
 
-std::int64_t FixedNoise::eval_full(const std::int64_t in[3], FixedTrace* tr) const {
+// Steps (1)-(3), the same values in both datapaths (docs/NOISE.md).
+FixedNoise::Axes FixedNoise::axes(const std::int64_t in[3], FixedTrace* tr) const {
   const int B = c_.frac_bits;
   const std::int64_t one = 1ll << B;
-  int cell[3], frac[3], hsh[3][2], sq[3][2];
+  Axes x;
   for (int a = 0; a < 3; ++a) {
     // (1) Split: cell = floor(u) mod 256 (arithmetic shift, low 8 bits), frac = low B bits.
-    cell[a] = static_cast<int>((in[a] >> B) & 255);
-    frac[a] = static_cast<int>(in[a] & (one - 1));
+    x.cell[a] = static_cast<int>((in[a] >> B) & 255);
+    x.frac[a] = static_cast<int>(in[a] & (one - 1));
     // (2) Hash table lookup: one entry gives the hash of the cell and of the next cell.
-    int e = hash_[a][cell[a]];
-    hsh[a][0] = e & 63;
-    hsh[a][1] = e >> 6;
+    const int e = hash_[a][x.cell[a]];
+    x.hsh[a][0] = e & 63;
+    x.hsh[a][1] = e >> 6;
     // (3) Squares of the per-axis offsets f and 1 - f, truncated to B fraction bits (floor).
-    std::int64_t f = frac[a], g = one - frac[a];
-    sq[a][0] = static_cast<int>((f * f) >> B);
-    sq[a][1] = static_cast<int>((g * g) >> B);
+    // ru_noise squares both; ru_noise_trunc squares f only and forms sq1 = sq0 + 2^B - 2f, the
+    // same value ((1 - f)^2 = f^2 + 1 - 2f; the added term is a multiple of the last place).
+    const std::int64_t f = x.frac[a];
+    x.sq[a][0] = static_cast<int>((f * f) >> B);
+    x.sq[a][1] = static_cast<int>(x.sq[a][0] + one - 2 * f);
   }
-  std::int64_t sum = 0;
   if (tr) {
     for (int a = 0; a < 3; ++a) {
-      tr->cell[a] = cell[a];
-      tr->frac[a] = frac[a];
+      tr->cell[a] = x.cell[a];
+      tr->frac[a] = x.frac[a];
       for (int k = 0; k < 2; ++k) {
-        tr->hash[a][k] = hsh[a][k];
-        tr->sq[a][k] = sq[a][k];
+        tr->hash[a][k] = x.hsh[a][k];
+        tr->sq[a][k] = x.sq[a][k];
       }
     }
   }
+  return x;
+}
+
+void FixedNoise::trace_corner(FixedTrace* tr, int c, const CornerTrace& k) {
+  if (!tr) return;
+  tr->d[c] = static_cast<int>(k.d);
+  tr->t[c] = static_cast<int>(k.t);
+  tr->t2[c] = static_cast<int>(k.t2);
+  tr->t4[c] = static_cast<int>(k.t4);
+  tr->t5[c] = static_cast<int>(k.t5);
+  tr->w[c] = static_cast<int>(k.w);
+  tr->h[c] = k.h;
+  tr->g[c] = *k.g;
+  tr->dot[c] = k.dot;
+  tr->contrib[c] = k.contrib;
+}
+
+std::int64_t FixedNoise::eval_full(const std::int64_t in[3], FixedTrace* tr) const {
+  const int B = c_.frac_bits;
+  const std::int64_t one = 1ll << B;
+  const Axes x = axes(in, tr);
+  const int* frac = x.frac;
+  std::int64_t sum = 0;
   for (int c = 0; c < 8; ++c) {
     const int cb[3] = {c & 1, (c >> 1) & 1, c >> 2};
     // (4) Squared distance (exact sum) and t = 1 - d, zero outside the support (d >= 1).
-    std::int64_t d = sq[0][cb[0]] + sq[1][cb[1]] + sq[2][cb[2]];
+    std::int64_t d = x.sq[0][cb[0]] + x.sq[1][cb[1]] + x.sq[2][cb[2]];
     std::int64_t t = d < one ? one - d : 0;
     // (5)-(7) Powers of t, each product truncated to B fraction bits (floor).
     std::int64_t t2 = (t * t) >> B;
@@ -151,7 +176,7 @@ std::int64_t FixedNoise::eval_full(const std::int64_t in[3], FixedTrace* tr) con
     std::int64_t w = 4 * t5 - 3 * t4;
     if (!fits_signed(w, w_bits())) range_fail("w", w, c_);
     // (9) Gradient index: xor of the three 6-bit hashes; gradient with B fraction bits.
-    int h = hsh[0][cb[0]] ^ hsh[1][cb[1]] ^ hsh[2][cb[2]];
+    int h = x.hsh[0][cb[0]] ^ x.hsh[1][cb[1]] ^ x.hsh[2][cb[2]];
     const std::array<int, 3>& g = grad_[h];
     // (10) Dot product of the offset (f - corner bit, B fraction bits) with the gradient:
     // exact sum of the three products (2B fraction bits), then truncated to B bits (floor).
@@ -162,18 +187,7 @@ std::int64_t FixedNoise::eval_full(const std::int64_t in[3], FixedTrace* tr) con
     // (11) Contribution w * dot, exact (2B fraction bits); (12) exact sum of the eight.
     std::int64_t contrib = w * dt;
     sum += contrib;
-    if (tr) {
-      tr->d[c] = static_cast<int>(d);
-      tr->t[c] = static_cast<int>(t);
-      tr->t2[c] = static_cast<int>(t2);
-      tr->t4[c] = static_cast<int>(t4);
-      tr->t5[c] = static_cast<int>(t5);
-      tr->w[c] = static_cast<int>(w);
-      tr->h[c] = h;
-      tr->g[c] = g;
-      tr->dot[c] = dt;
-      tr->contrib[c] = contrib;
-    }
+    trace_corner(tr, c, {d, t, t2, t4, t5, w, h, &g, dt, contrib});
   }
   return finish(sum, 2 * B, tr);
 }
@@ -240,35 +254,12 @@ std::int64_t FixedNoise::trunc_dot(const int frac[3], const std::array<int, 3>& 
 std::int64_t FixedNoise::eval_trunc(const std::int64_t in[3], FixedTrace* tr) const {
   const int B = c_.frac_bits;
   const std::int64_t one = 1ll << B;
-  int cell[3], frac[3], hsh[3][2], sq[3][2];
-  for (int a = 0; a < 3; ++a) {
-    // (1) split, (2) hash lookup as kFull.
-    cell[a] = static_cast<int>((in[a] >> B) & 255);
-    frac[a] = static_cast<int>(in[a] & (one - 1));
-    const int e = hash_[a][cell[a]];
-    hsh[a][0] = e & 63;
-    hsh[a][1] = e >> 6;
-    // (3) One exact squarer per axis: sq0 = floor(f^2 / 2^B); (1 - f)^2 = f^2 + 1 - 2f gives
-    // sq1 = sq0 + 2^B - 2f exactly (the added term is a multiple of the last place).
-    const std::int64_t f = frac[a];
-    sq[a][0] = static_cast<int>((f * f) >> B);
-    sq[a][1] = static_cast<int>(sq[a][0] + one - 2 * f);
-  }
-  if (tr) {
-    for (int a = 0; a < 3; ++a) {
-      tr->cell[a] = cell[a];
-      tr->frac[a] = frac[a];
-      for (int k = 0; k < 2; ++k) {
-        tr->hash[a][k] = hsh[a][k];
-        tr->sq[a][k] = sq[a][k];
-      }
-    }
-  }
+  const Axes x = axes(in, tr);
   std::int64_t sum = 0;
   for (int c = 0; c < 8; ++c) {
     const int cb[3] = {c & 1, (c >> 1) & 1, c >> 2};
     // (4) d exact; t = 1 - d in B bits: 0 outside the support, 1 - 2^-B at d = 0.
-    const std::int64_t d = sq[0][cb[0]] + sq[1][cb[1]] + sq[2][cb[2]];
+    const std::int64_t d = x.sq[0][cb[0]] + x.sq[1][cb[1]] + x.sq[2][cb[2]];
     const std::int64_t t = d >= one ? 0 : std::min(one - d, one - 1);
     // (5)-(8) t^2, t^4 by truncated squarers; w = t^4 (4t - 3) = 4 t^4 t - 3 t^4 with the product
     // 4 t^4 t from a truncated multiplier (B fraction bits: the multiplier keeps B + 2).
@@ -277,25 +268,14 @@ std::int64_t FixedNoise::eval_trunc(const std::int64_t in[3], FixedTrace* tr) co
     const std::int64_t w = p - 3 * t4;
     if (!fits_signed(w, w_bits())) range_fail("w", w, c_);
     // (9) gradient (B - 3 fraction bits); (10) dot product with B - 2 fraction bits.
-    const int h = hsh[0][cb[0]] ^ hsh[1][cb[1]] ^ hsh[2][cb[2]];
+    const int h = x.hsh[0][cb[0]] ^ x.hsh[1][cb[1]] ^ x.hsh[2][cb[2]];
     const std::array<int, 3>& g = grad_[h];
-    const std::int64_t dt = trunc_dot(frac, g, c);
+    const std::int64_t dt = trunc_dot(x.frac, g, c);
     if (!fits_signed(dt, dot_bits())) range_fail("dot", dt, c_);
     // (11)-(12) w * dot, summed exactly (2B - 2 fraction bits).
     const std::int64_t contrib = w * dt;
     sum += contrib;
-    if (tr) {
-      tr->d[c] = static_cast<int>(d);
-      tr->t[c] = static_cast<int>(t);
-      tr->t2[c] = static_cast<int>(t2);
-      tr->t4[c] = static_cast<int>(t4);
-      tr->t5[c] = static_cast<int>(p);
-      tr->w[c] = static_cast<int>(w);
-      tr->h[c] = h;
-      tr->g[c] = g;
-      tr->dot[c] = dt;
-      tr->contrib[c] = contrib;
-    }
+    trace_corner(tr, c, {d, t, t2, t4, p, w, h, &g, dt, contrib});
   }
   return finish(sum, B + dot_frac_bits(), tr);
 }

@@ -100,6 +100,17 @@ class FixedNoise {
 
  private:
   bool trunc() const { return c_.datapath == NoiseDatapath::kTrunc; }
+  struct Axes {  // steps (1)-(3) per axis
+    int cell[3], frac[3], hsh[3][2], sq[3][2];
+  };
+  struct CornerTrace {
+    std::int64_t d, t, t2, t4, t5, w;
+    int h;
+    const std::array<int, 3>* g;
+    std::int64_t dot, contrib;
+  };
+  Axes axes(const std::int64_t in[3], FixedTrace* trace) const;
+  static void trace_corner(FixedTrace* trace, int c, const CornerTrace& k);
   std::int64_t eval_full(const std::int64_t in[3], FixedTrace* trace) const;
   std::int64_t eval_trunc(const std::int64_t in[3], FixedTrace* trace) const;
   std::int64_t finish(std::int64_t sum, int sum_frac_bits, FixedTrace* trace) const;
