@@ -50,6 +50,8 @@ struct RenderCommand {
   render::RenderOptions opt;
   std::string format = "float", tri = "robust", box = "plain", bvh = "sah", noise = "float";
   std::string out, trace_out, diff_out, json_out;
+  std::string compare_noise;  // --compare-noise: the reference's noise model ("": as --noise)
+  render::NoiseMode ref_noise = render::NoiseMode::Float;
   bool compare = false;
 };
 bool parse_render_command(int argc, char** argv, RenderCommand& c);  // false: help was printed

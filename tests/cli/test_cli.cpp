@@ -604,4 +604,28 @@ TEST_F(Cli, BenchRenderSmallScene) {
   expect_one_line_error(run("bench render --scene default --tri fast"), "unknown triangle test");
 }
 
+// render --noise fixed-trunc (ru_noise_trunc's model) against float noise: the reference's noise
+// model is named on the line and in the JSON; the same image against itself is exact, the
+// noise unit's is not; bad noise names and --compare-noise without --compare are one line and
+// leave no PNG.
+TEST_F(Cli, RenderCompareNoise) {
+  TempDir d;
+  const std::string png = (d.path() / "a.png").string(), js = (d.path() / "a.json").string();
+  Proc r = run("render --scene default --format double --noise fixed-trunc --compare --compare-noise float --size 48x32 --quiet --out " +
+               png + " --json " + js);
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(r.out, m, std::regex(R"(vs double \(noise float\): [0-9]+ pixels .* PSNR ([0-9.]+|inf) dB)"))) << r.out;
+  EXPECT_NE(m[1].str(), "inf") << "the noise unit's image equals the float-noise one: the reference did not switch";
+  EXPECT_NE(read_file(js).find("\"noise\":\"float\""), std::string::npos) << read_file(js);
+  Proc same = run("render --scene default --format double --noise fixed-trunc --compare --size 48x32 --quiet --out " + png);
+  ASSERT_EQ(same.code, 0) << same.err;
+  EXPECT_NE(same.out.find("vs double (noise fixed-trunc): 0 pixels"), std::string::npos) << same.out;
+  EXPECT_NE(same.out.find("PSNR inf dB"), std::string::npos) << same.out;
+  const std::string bad = (d.path() / "b.png").string();
+  expect_one_line_error(run("render --scene default --noise fixed-fast --out " + bad), "accepted: float, fixed, fixed-trunc");
+  expect_one_line_error(run("render --scene default --noise fixed --compare-noise float --out " + bad), "--compare-noise needs --compare");
+  EXPECT_FALSE(std::filesystem::exists(bad));
+}
+
 }  // namespace

@@ -58,7 +58,8 @@ BvhKind parse_bvh(const std::string& s) {
 NoiseMode parse_noise(const std::string& s) {
   if (s == "float") return NoiseMode::Float;
   if (s == "fixed") return NoiseMode::Fixed;
-  throw std::invalid_argument("unknown noise model '" + s + "' (accepted: float, fixed)");
+  if (s == "fixed-trunc") return NoiseMode::FixedTrunc;
+  throw std::invalid_argument("unknown noise model '" + s + "' (accepted: float, fixed, fixed-trunc)");
 }
 units::BoxMode parse_box(const std::string& s) {
   if (s == "plain") return units::BoxMode::Plain;

@@ -36,6 +36,13 @@ struct FixedConfig {
   std::string describe() const;  // "B=8 int=8 out=10" (+ " trunc" for the truncated datapath)
 };
 
+// The default widths (FracBits 8, IntBits 8, OutW 10) with the given datapath.
+inline FixedConfig default_config(NoiseDatapath d) {
+  FixedConfig c;
+  c.datapath = d;
+  return c;
+}
+
 // Intermediate values of one evaluation (for tests, the RTL testbench's diagnostics, docs).
 struct FixedTrace {
   int cell[3];                 // 8-bit cell index per axis

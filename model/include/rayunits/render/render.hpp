@@ -23,11 +23,13 @@ namespace ru::render {
 
 enum class TriAlgo : uint8_t { Robust, MT };
 enum class BvhKind : uint8_t { Sah, Median };
-enum class NoiseMode : uint8_t { Float, Fixed };  // NoiseRef::half in double, or FixedNoise
+// NoiseRef::half in double, FixedNoise of ru_noise (Kensler's datapath) or of ru_noise_trunc
+// (the truncated datapath, docs/NOISE.md)
+enum class NoiseMode : uint8_t { Float, Fixed, FixedTrunc };
 
 TriAlgo parse_tri(const std::string& s);      // "robust" | "mt"; throws std::invalid_argument
 BvhKind parse_bvh(const std::string& s);      // "sah" | "median"
-NoiseMode parse_noise(const std::string& s);  // "float" | "fixed"
+NoiseMode parse_noise(const std::string& s);  // "float" | "fixed" | "fixed-trunc"
 units::BoxMode parse_box(const std::string& s);  // "plain" | "conservative"
 // "512x384" or "256" (square), each side 1..16384; throws std::invalid_argument
 // "bad --size 'x' (expected WxH or N, 1..16384, e.g. 512x512)".

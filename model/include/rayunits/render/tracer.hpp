@@ -138,7 +138,8 @@ class Tracer {
  public:
   Tracer(const Prepared<T>& p, const RenderOptions& o)
       : P(p), opt(o), stack_(static_cast<size_t>(p.depth) + 2), pbstack_(kNative<T> ? static_cast<size_t>(p.depth) + 2 : 0), noise_ref_(noise::builtin_tables(), 64),
-        fixed_(noise::FixedConfig{}) {}
+        fixed_(noise::default_config(o.noise == NoiseMode::FixedTrunc ? noise::NoiseDatapath::kTrunc
+                                                                         : noise::NoiseDatapath::kFull)) {}
 
   Counters cnt;
   TraceSink* trace = nullptr;
