@@ -184,14 +184,14 @@ def curve_table(cr):
     return lines
 
 
-def noise_table(cr, gr):
+def noise_table(cr, gr, unit="noise"):
     lines = [
         "| Stages | fastest: clock ns | MHz | FO4/cycle | area um2 | comb | seq | smallest: area um2 | comb | seq | at MHz | NAND2-eq (generic estimate) | Kensler (65 nm, DC): MHz | FO4/cycle (est.) | um2 comb + seq = total |",
         "|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|",
     ]
     kens = {s: (ret, mhz, c, q, t) for s, ret, mhz, c, q, t in KENSLER_41}
     for s in range(0, 8):
-        k = ("noise", None, s)
+        k = (unit, None, s)
         if k not in cr:
             continue
         a, b = fastest(cr[k]), smallest(cr[k])
@@ -224,7 +224,7 @@ def match_tables(rows):
         out.append("| unit | Stages tried (best ns) | smallest Stages meeting it | ABC target ps | achieved ns | area um2 (comb + seq) | command |")
         out.append("|---|---|---:|---:|---:|---:|---|")
         met = {}
-        for u in ["noise", "fp_add", "fp_mul", "fp_dot3"]:
+        for u in ["noise", "fp_add", "fp_mul", "fp_dot3", "noise_trunc"]:
             rs = sorted(units.get(u, []), key=lambda r: r["stages"])
             if not rs:
                 out.append(f"| {u} | not run | | | | | |")
@@ -251,6 +251,13 @@ def match_tables(rows):
             out.append("")
             out.append(f"noise / (fp_add + fp_mul) = {fmt_int(n)} / ({fmt_int(a)} + {fmt_int(mu)}) = **{n / (a + mu):.2f}** "
                        f"(Kensler 2.0 at 1 GHz); noise / fp_dot3 = {fmt_int(n)} / {fmt_int(d)} = **{n / d:.2f}** (Kensler 0.63).")
+            if "noise_trunc" in met:
+                t = met["noise_trunc"]["area_um2"]
+                summary[clk].update(trunc=t, trunc_alu=t / (a + mu), trunc_mul=t / mu, trunc_dot3=t / d)
+                out.append("")
+                out.append(f"noise_trunc / (fp_add + fp_mul) = {fmt_int(t)} / ({fmt_int(a)} + {fmt_int(mu)}) = **{t / (a + mu):.2f}** "
+                           f"(Kensler 2.0); noise_trunc / fp_mul = **{t / mu:.2f}**; noise_trunc / fp_dot3 = {fmt_int(t)} / "
+                           f"{fmt_int(d)} = **{t / d:.2f}** (Kensler 0.63); noise_trunc / noise = **{t / n:.2f}**.")
     return out, summary
 
 
@@ -425,6 +432,18 @@ def main():
     md += ["", "NAND2-eq: the generic flow (`rayunits synth U --format F --stages S --generic-only`), a labelled "
            "estimate of this project's own weights, for comparison only."]
     md += ["", "## Noise unit by pipeline depth (Table 4.1 analogue)", ""] + noise_table(cr, gr)
+    md += ["", "## The truncated noise unit (noise_trunc, issue 15) by pipeline depth", "",
+           "Same columns (docs/NOISE.md, \"The truncated datapath\"); its area relative to ru_noise at equal Stages:", ""]
+    md += noise_table(cr, gr, "noise_trunc")
+    ratios = []
+    for st in range(0, 8):
+        k0, k1 = ("noise", None, st), ("noise_trunc", None, st)
+        if k0 in cr and k1 in cr:
+            ratios.append(f"Stages {st}: smallest {smallest(cr[k1])['area_um2'] / smallest(cr[k0])['area_um2']:.3f}, "
+                          f"fastest {fastest(cr[k1])['area_um2'] / fastest(cr[k0])['area_um2']:.3f} "
+                          f"({fastest(cr[k1])['fmax_mhz']:.1f} vs {fastest(cr[k0])['fmax_mhz']:.1f} MHz)")
+    if ratios:
+        md += ["", "noise_trunc / noise area at equal Stages: " + "; ".join(ratios) + "."]
     md += ["", f"Kensler's FO4 per cycle is an estimate: his 65 nm process's FO4 is not given; the rule of thumb FO4 ≈ "
            f"360 ps × drawn gate length in µm (typical corner; 500 ps/µm worst case) gives {FO4_65_PS:.1f} ps "
            f"({FO4_65_WORST_PS:.1f} ps), so his 1 GHz is ≈ {1000 / FO4_65_PS:.0f} FO4 ({1000 / FO4_65_WORST_PS:.0f}) and his "
