@@ -40,8 +40,9 @@ FixedConfig make_fixed(int b, int ib, int ow) {
 int run_noise_eval(int argc, char** argv) {
   CLI::App app{
       "Evaluate every noise at one point X = (x, y, z) in full-resolution lattice units: Perlin improved, Kensler "
-      "full (256 gradients), projected (with --normal), half-resolution (64 gradients), and the fixed-point unit "
-      "at u = X/2 (its input is in half-resolution cells). --trace prints the unit's intermediate values.",
+      "full (256 gradients), projected (with --normal), half-resolution (64 gradients), and the fixed-point units "
+      "(ru_noise; ru_noise_trunc for 5 or more fraction bits) at u = X/2 (their input is in half-resolution cells). "
+      "--trace prints the units' intermediate values.",
       "rayunits noise eval"};
   std::vector<double> p, n;
   int b = 8, ib = 8, ow = 10;
@@ -68,32 +69,42 @@ int run_noise_eval(int argc, char** argv) {
   if (!n.empty()) std::printf("kensler_projected %.17g\n", r256.projected({p[0], p[1], p[2]}, N));
   std::printf("half_res          %.17g   (N(u) = half/2 = %.17g)\n", r64.half(p[0], p[1], p[2]),
               r64.half_cell(p[0] / 2, p[1] / 2, p[2] / 2));
-  std::int64_t w[3];
-  for (int a = 0; a < 3; ++a) w[a] = fx.quantize(p[a] / 2);
-  FixedTrace t;
-  std::int64_t v = fx.eval(w[0], w[1], w[2], &t);
-  const int iw = fx.config().in_w();
-  const std::uint64_t im = iw >= 64 ? ~0ull : (1ull << iw) - 1, om = (1ull << fx.config().out_w) - 1;
-  std::printf("fixed (%s)  x_i=0x%llx y_i=0x%llx z_i=0x%llx -> value_o=0x%llx (%lld) = N %.9g%s\n",
-              fx.config().describe().c_str(), static_cast<unsigned long long>(w[0] & im),
-              static_cast<unsigned long long>(w[1] & im), static_cast<unsigned long long>(w[2] & im),
-              static_cast<unsigned long long>(static_cast<std::uint64_t>(v) & om), static_cast<long long>(v),
-              fx.to_real(v), t.saturated ? " (saturated)" : "");
-  if (trace) {
+  // The unit's datapaths: ru_noise, and ru_noise_trunc where it exists (B >= 5; docs/NOISE.md).
+  auto show = [&](const FixedNoise& f) {
+    std::int64_t w[3];
+    for (int a = 0; a < 3; ++a) w[a] = f.quantize(p[a] / 2);
+    FixedTrace t;
+    std::int64_t v = f.eval(w[0], w[1], w[2], &t);
+    const int iw = f.config().in_w();
+    const std::uint64_t im = iw >= 64 ? ~0ull : (1ull << iw) - 1, om = (1ull << f.config().out_w) - 1;
+    std::printf("fixed (%s)  x_i=0x%llx y_i=0x%llx z_i=0x%llx -> value_o=0x%llx (%lld) = N %.9g%s\n",
+                f.config().describe().c_str(), static_cast<unsigned long long>(w[0] & im),
+                static_cast<unsigned long long>(w[1] & im), static_cast<unsigned long long>(w[2] & im),
+                static_cast<unsigned long long>(static_cast<std::uint64_t>(v) & om), static_cast<long long>(v),
+                f.to_real(v), t.saturated ? " (saturated)" : "");
+    if (!trace) return;
+    const bool tr = f.config().datapath == NoiseDatapath::kTrunc;
     for (int a = 0; a < 3; ++a)
       std::printf("  axis %c: cell %3d frac %5d hash {%2d,%2d} sq {%d,%d}\n", "xyz"[a], t.cell[a], t.frac[a],
                   t.hash[a][0], t.hash[a][1], t.sq[a][0], t.sq[a][1]);
     for (int c = 0; c < 8; ++c)
-      std::printf("  corner %d%d%d: d %d t %d t2 %d t4 %d t5 %d w %d | h %2d g (%d %d %d) dot %lld | w*dot %lld\n",
-                  c & 1, (c >> 1) & 1, c >> 2, t.d[c], t.t[c], t.t2[c], t.t4[c], t.t5[c], t.w[c], t.h[c], t.g[c][0],
-                  t.g[c][1], t.g[c][2], static_cast<long long>(t.dot[c]), static_cast<long long>(t.contrib[c]));
-    std::printf("  sum %lld (2B fraction bits)\n", static_cast<long long>(t.sum));
+      std::printf("  corner %d%d%d: d %d t %d t2 %d t4 %d %s %d w %d | h %2d g (%d %d %d) dot %lld | w*dot %lld\n",
+                  c & 1, (c >> 1) & 1, c >> 2, t.d[c], t.t[c], t.t2[c], t.t4[c], tr ? "4t4t" : "t5", t.t5[c], t.w[c],
+                  t.h[c], t.g[c][0], t.g[c][1], t.g[c][2], static_cast<long long>(t.dot[c]),
+                  static_cast<long long>(t.contrib[c]));
+    std::printf("  sum %lld (%d fraction bits)\n", static_cast<long long>(t.sum), b + f.dot_frac_bits());
+  };
+  show(fx);
+  if (b >= 5) {
+    FixedConfig tc = fx.config();
+    tc.datapath = NoiseDatapath::kTrunc;
+    show(FixedNoise(tc));
   }
   return 0;
 }
 
 }  // namespace
 
-RU_COMMAND("noise eval", "evaluate every noise (and the fixed-point unit) at one point", run_noise_eval);
+RU_COMMAND("noise eval", "evaluate every noise (and the fixed-point units) at one point", run_noise_eval);
 
 }  // namespace ru::cli

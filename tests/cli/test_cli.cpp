@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "rayunits/noise/fixed.hpp"
 #include "rayunits/util/csv.hpp"
 #include "rayunits/util/process.hpp"
 
@@ -602,6 +603,25 @@ TEST_F(Cli, BenchRenderSmallScene) {
   expect_one_line_error(run("bench render --scene default --emulated e1m2"), "invalid format");
   expect_one_line_error(run("bench render --scene nope"), "unknown scene");
   expect_one_line_error(run("bench render --scene default --tri fast"), "unknown triangle test");
+}
+
+// noise eval prints both fixed-point units; each line's value is its model's at the quantized point
+// (u = X / 2); with 4 fraction bits there is no truncated unit, and a bad width is one line.
+TEST_F(Cli, NoiseEvalBothUnits) {
+  Proc r = run("noise eval 3.14 42 7");
+  ASSERT_EQ(r.code, 0) << r.err;
+  for (const auto dp : {ru::noise::NoiseDatapath::kFull, ru::noise::NoiseDatapath::kTrunc}) {
+    const ru::noise::FixedNoise f(ru::noise::default_config(dp));
+    const std::int64_t v = f.eval(f.quantize(3.14 / 2), f.quantize(42.0 / 2), f.quantize(7.0 / 2));
+    const std::string line = "fixed (" + f.config().describe() + ")";
+    const size_t at = r.out.find(line);
+    ASSERT_NE(at, std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("(" + std::to_string(v) + ") = N", at), std::string::npos) << line << " " << v << "\n" << r.out;
+  }
+  Proc b4 = run("noise eval 1 2 3 --frac-bits 4 --out-w 6");
+  ASSERT_EQ(b4.code, 0) << b4.err;
+  EXPECT_EQ(b4.out.find("trunc"), std::string::npos) << b4.out;
+  expect_one_line_error(run("noise eval 1 2 3 --frac-bits 3"), "fraction bits must be 4..16");
 }
 
 // render --noise fixed-trunc (ru_noise_trunc's model) against float noise: the reference's noise
