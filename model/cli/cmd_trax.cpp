@@ -23,7 +23,7 @@ int run_trax_cmd(int argc, char** argv) {
                "renderer's ray tracer; writes image.png, summary.json, summary.md"};
   SceneArgs sa;
   sa.add(app);
-  std::string config_path, format, tri, traversal, size = "32x32", out, profile_path;
+  std::string config_path, format, tri, noise, traversal, size = "32x32", out, profile_path;
   bool quiet = false, cosim = false, cosim_build = false;
   std::set<std::string> profile_units;
   int64_t cosim_inject = -1;
@@ -33,6 +33,9 @@ int run_trax_cmd(int argc, char** argv) {
                  "(--format / --tri given too override it)");
   app.add_option("--format", format, "number format: float | eXmY[-ftz] (overrides chip.format)");
   app.add_option("--tri", tri, "ray-triangle unit: robust | mt (overrides chip.tri)");
+  app.add_option("--noise", noise,
+                 "noise unit: fixed-trunc (ru_noise_trunc) | fixed (ru_noise, the baseline) | float (no unit) "
+                 "(overrides chip.noise)");
   app.add_option("--traversal", traversal, "stack | stackless (overrides chip.traversal)");
   app.add_option("--size", size, "image size WxH (or N)");
   app.add_option("--out", out, "output directory")->required();
@@ -76,6 +79,11 @@ int run_trax_cmd(int argc, char** argv) {
     if (!tri.empty()) {
       if (tri != "robust" && tri != "mt") throw UsageError("unknown --tri '" + tri + "' (accepted: robust, mt)");
       cfg.tri = tri;
+    }
+    if (!noise.empty()) {
+      if (noise != "fixed-trunc" && noise != "fixed" && noise != "float")
+        throw UsageError("unknown --noise '" + noise + "' (accepted: fixed-trunc, fixed, float)");
+      cfg.noise = noise;
     }
     if (!traversal.empty()) {
       if (traversal != "stack" && traversal != "stackless")

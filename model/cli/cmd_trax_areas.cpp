@@ -45,7 +45,7 @@ int run_trax_areas(int argc, char** argv) {
                "(model/data/trax/areas.json): for each format, the FP units at the chip's latencies and the box / "
                "triangle / noise units at their RTL Stages (rtl_latency); rows already in the file are kept unless "
                "re-measured"};
-  std::string formats, units = "fp_add,fp_mul,fp_div,fp_sqrt,fp_cmp,ray_box,noise", config_path, out, flow = "osu018";
+  std::string formats, units = "fp_add,fp_mul,fp_div,fp_sqrt,fp_cmp,ray_box,noise_trunc", config_path, out, flow = "osu018";
   int timeout = 1800;
   bool skip_present = false;
   app.add_option("--formats", formats,
@@ -119,7 +119,7 @@ int run_trax_areas(int argc, char** argv) {
   const std::string self = util::self_exe();
   if (self.empty()) throw UsageError("cannot find the rayunits executable (/proc/self/exe)");
   synth::TempDir tmp("ru-trax-areas");
-  bool noise_done = false;
+  std::set<std::string> fmtless_done;  // units without a format: measured once
   for (const std::string& f : fmts) {
     const num::Format F = num::Format::parse(f);
     F.validate();
@@ -131,9 +131,8 @@ int run_trax_areas(int argc, char** argv) {
       synth::UnitConfig uc;
       uc.fmt = F;
       const int stages = std::min(lat, spec.max_stages(uc));
-      const bool fmtless = u == "noise";
-      if (fmtless && noise_done) continue;  // once
-      if (fmtless) noise_done = true;
+      const bool fmtless = !spec.uses_format;
+      if (fmtless && !fmtless_done.insert(u).second) continue;  // once
       const std::string rfmt = fmtless ? "-" : F.name();
       auto& rows = table["rows"];
       auto same = [&](const nlohmann::json& old) {

@@ -288,8 +288,9 @@ void configure(const std::string& header) {
   unit_spec("noise", kv["noise"], noise);
   if (box.algo != "plain" && box.algo != "conservative") fail_line("unknown box mode " + box.algo);
   if (tri.algo != "robust" && tri.algo != "mt") fail_line("unknown tri algorithm " + tri.algo);
-  if (noise.algo != "fixed")
-    fail_line("chip.noise = " + noise.algo + " has no RTL (the noise unit implements noise = fixed)");
+  if (noise.algo != "fixed-trunc" && noise.algo != "fixed")
+    fail_line("chip.noise = " + noise.algo +
+              " has no RTL (ru_noise_trunc implements noise = fixed-trunc, ru_noise noise = fixed)");
   // The configurations this chip needs: trax::cosim::companion_units, the one description that
   // `rayunits trax --cosim-build` builds from too (format, options, latency as Stages).
   ru::trax::Config chip;

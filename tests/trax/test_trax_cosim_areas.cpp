@@ -73,7 +73,7 @@ struct AreaTable {
 };
 // A cell-flow row as `rayunits trax areas` writes it (the fields the model reads).
 std::string row(const char* unit, const char* fmt, int stages, double area, double fmax = 100) {
-  const bool noise = std::strcmp(unit, "noise") == 0;
+  const bool noise = std::strncmp(unit, "noise", 5) == 0;  // noise, noise_trunc: no format
   return std::string("{\"unit\": \"") + unit + "\", \"format\": " + (noise ? "null" : "\"" + std::string(fmt) + "\"") +
          ", \"stages\": " + std::to_string(stages) + ", \"flow\": \"osu018\", \"area_um2\": " + std::to_string(area) +
          ", \"fmax_mhz\": " + std::to_string(fmax) + ", \"command\": \"rayunits synth " + unit +
@@ -88,7 +88,8 @@ std::string table_json(const std::string& rows) {
 std::string fp_rows() {
   return row("fp_add", "e8m23", 2, 100, 200) + ", " + row("fp_mul", "e8m23", 2, 1000, 150) + ", " +
          row("fp_div", "e8m23", 16, 5000, 300) + ", " + row("fp_sqrt", "e8m23", 16, 2500, 320) + ", " +
-         row("fp_cmp", "e8m23", 1, 10, 400) + ", " + row("noise", "-", 4, 777, 120);
+         row("fp_cmp", "e8m23", 1, 10, 400) + ", " + row("noise_trunc", "-", 4, 777, 120) + ", " +
+         row("noise", "-", 4, 1234, 110);
 }
 std::string resolve_error(const std::string& json, const Config& c = default_config()) {
   AreaTable t("areas_err.json", json);
@@ -116,7 +117,7 @@ TEST(TraxAreas, MeasuredComposedAndScaledRows) {
   Config r = resolve_config(c, &src);
   EXPECT_EQ(r.unit(Unit::FpAdd).area, 100);
   EXPECT_EQ(r.unit(Unit::FpSqrt).area, 2500);  // its own row (fp_sqrt has RTL), not fp_div's
-  EXPECT_EQ(r.unit(Unit::Noise).area, 777);
+  EXPECT_EQ(r.unit(Unit::Noise).area, 777);  // noise_trunc's row (chip.noise = fixed-trunc)
   EXPECT_EQ(r.unit(Unit::Box).area, 6670);
   EXPECT_EQ(r.unit(Unit::Tri).area, 58500);
   EXPECT_EQ(r.unit(Unit::Conv).area, 15000);  // 1500 NAND2-eq x 10 um2: an estimate
@@ -142,6 +143,27 @@ TEST(TraxAreas, MeasuredComposedAndScaledRows) {
   EXPECT_NEAR(r.unit(Unit::Box).area, 6 * 50 + 6 * 1000.0 * 121 / 576 + 7 * 5, 1e-9);  // plain composition
   c.clock_mhz = 500;  // a configured clock is kept
   EXPECT_EQ(resolve_config(c).clock_mhz, 500);
+}
+
+// chip.noise picks the noise unit's row: fixed-trunc (the default) ru_noise_trunc's, fixed
+// ru_noise's, float none (no unit, not charged); a missing row is one line naming the unit.
+TEST(TraxAreas, ChipNoiseSelectsItsUnitsRow) {
+  AreaTable t("areas_n.json", table_json(fp_rows()));
+  Config c = default_config();
+  EXPECT_EQ(c.noise, "fixed-trunc");
+  std::vector<AreaSource> src;
+  EXPECT_EQ(resolve_config(c, &src).unit(Unit::Noise).area, 777);
+  EXPECT_EQ(src[int(Unit::Noise)].unit, "noise_trunc");
+  c.noise = "fixed";
+  const Config f = resolve_config(c, &src);
+  EXPECT_EQ(f.unit(Unit::Noise).area, 1234);
+  EXPECT_EQ(f.clock_mhz, 110);  // ru_noise's Fmax is the slowest
+  EXPECT_EQ(src[int(Unit::Noise)].unit, "noise");
+  const std::string m = resolve_error(table_json(row("fp_add", "e8m23", 2, 100, 200) + ", " + row("fp_mul", "e8m23", 2, 1000, 150) + ", " +
+                                                 row("fp_div", "e8m23", 16, 5000, 300) + ", " + row("fp_sqrt", "e8m23", 16, 2500, 320) + ", " +
+                                                 row("fp_cmp", "e8m23", 1, 10, 400) + ", " + row("noise", "-", 4, 1234, 110)));
+  EXPECT_NE(m.find("no row for noise_trunc Stages 4"), std::string::npos) << m;
+  EXPECT_NE(m.find("--units noise_trunc"), std::string::npos) << m;
 }
 
 // A measured box row (e8m23, Stages 7) = 2 x its composition 6670, Fmax 90: another format's box
@@ -194,7 +216,7 @@ TEST(TraxAreas, MalformedTableIsOneLineNamingTheRow) {
   std::string wrong_unit = row("fp_mul", "e8m23", 2, 1000);
   wrong_unit.replace(wrong_unit.find("\"unit\": \"fp_mul\""), 16, "\"unit\": \"fp_add\"");
   one_line(resolve_error(table_json(good + ", " + wrong_unit)),
-           "row 7 (fp_add e8m23 Stages 2): command synthesizes 'fp_mul', the row says unit 'fp_add'");
+           "row 8 (fp_add e8m23 Stages 2): command synthesizes 'fp_mul', the row says unit 'fp_add'");
   // a row whose format differs from its command's
   std::string wrong_fmt = row("fp_add", "e7m16", 2, 100);
   wrong_fmt.replace(wrong_fmt.find("\"format\": \"e7m16\""), 17, "\"format\": \"e8m23\"");
@@ -210,7 +232,7 @@ TEST(TraxAreas, MalformedTableIsOneLineNamingTheRow) {
   one_line(resolve_error(table_json(row("fp_add", "e8m23", 2, 100, 0))), "no number \"fmax_mhz\" > 0");
   one_line(resolve_error(table_json(row("fp_dot3", "e8m23", 2, 100))), "unit 'fp_dot3' is not a TRaX unit");
   one_line(resolve_error(table_json(good + ", " + row("fp_add", "e8m23", 2, 100))),
-           "row 7: a second row for fp_add|e8m23|2 in flow osu018");
+           "row 8: a second row for fp_add|e8m23|2 in flow osu018");
   one_line(resolve_error(table_json(row("fp_add", "e9m99", 2, 100))), "row 1 (fp_add e9m99 Stages 2): format:");
   one_line(resolve_error("{\"rows\": [" + good + "]}"), "no \"nand2_cell\"");
   one_line(resolve_error("{\"rows\": [" + good), "not JSON");
@@ -227,7 +249,7 @@ TEST(TraxAreas, MalformedTableIsOneLineNamingTheRow) {
 
 // The checked-in table (model/data/trax/areas.json): every row valid and from the cell flow, the
 // rows the default chip needs measured for every format of the formats study (FP units, box) and
-// at e8m23 (both triangle units, noise), the NAND2X1 area equal to the liberty's (read from it,
+// at e8m23 (both triangle units, both noise units), the NAND2X1 area equal to the liberty's (read from it,
 // when the liberty is installed), and the default chip's clock = its slowest unit's STA Fmax.
 TEST(TraxAreas, CheckedInTableIsComplete) {
   const std::string path = std::string(RU_SOURCE_DIR) + "/model/data/trax/areas.json";
@@ -270,6 +292,14 @@ TEST(TraxAreas, CheckedInTableIsComplete) {
     }
     EXPECT_EQ(r.unit(Unit::Conv).fmax_mhz, 0);  // estimates are not timed
     EXPECT_EQ(r.clock_mhz, slowest) << tri;
+  }
+  {  // the baseline noise unit (chip.noise = fixed) is measured too
+    Config c = default_config();
+    c.noise = "fixed";
+    std::vector<AreaSource> src;
+    resolve_config(c, &src);
+    EXPECT_EQ(src[int(Unit::Noise)].how, "measured");
+    EXPECT_EQ(src[int(Unit::Noise)].unit, "noise");
   }
   unsetenv("RU_TRAX_AREAS");
 }
@@ -388,7 +418,7 @@ namespace {
 // compares with the recorded outputs (the record layout the companion relies on).
 struct Checker : IssueObserver {
   ru::num::Format fmt;
-  bool mt = false, swap_box_planes = false;
+  bool mt = false, swap_box_planes = false, full_noise = false;
   uint64_t boxes = 0, tris = 0, noises = 0, bad = 0;
   void issue(const UnitIssue& u) override {
     using ru::num::Soft;
@@ -409,7 +439,10 @@ struct Checker : IssueObserver {
         ++bad;
     } else {
       ++noises;
-      static const ru::noise::FixedNoise fx{ru::noise::FixedConfig{}};
+      // the chip's default unit, ru_noise_trunc (chip.noise = fixed-trunc)
+      static const ru::noise::FixedNoise trunc{ru::noise::default_config(ru::noise::NoiseDatapath::kTrunc)},
+          full{ru::noise::default_config(ru::noise::NoiseDatapath::kFull)};
+      const ru::noise::FixedNoise& fx = full_noise ? full : trunc;
       auto sx = [](uint64_t w) { return static_cast<int64_t>(w << 48) >> 48; };  // 16-bit words
       if ((static_cast<uint64_t>(fx.eval(sx(u.data[0]), sx(u.data[1]), sx(u.data[2]))) & 1023) != u.data[3]) ++bad;
     }
@@ -441,6 +474,22 @@ TEST(TraxObserver, OperandRecordsReproduceTheGoldenResults) {
   ro.observer = &p;
   run_trax(s, c, 8, 8, ro);
   EXPECT_GT(p.bad, 0u);
+  // The NOISE records are ru_noise_trunc's (the default chip.noise): checked with ru_noise's
+  // model they disagree; with chip.noise = fixed they are ru_noise's.
+  Checker q;
+  q.fmt = k.fmt;
+  q.full_noise = true;
+  ro.observer = &q;
+  run_trax(s, c, 8, 8, ro);
+  EXPECT_GT(q.bad, 0u);
+  Checker f;
+  f.fmt = k.fmt;
+  f.full_noise = true;
+  ro.observer = &f;
+  c.noise = "fixed";
+  const TraxResult rf = run_trax(s, c, 8, 8, ro);
+  EXPECT_EQ(f.bad, 0u);
+  EXPECT_EQ(f.noises, rf.noise_evals);
 }
 
 TEST(TraxCosim, MissingCompanionIsOneLine) {
@@ -454,7 +503,7 @@ TEST(TraxCosim, MissingCompanionIsOneLine) {
     EXPECT_EQ(m.find('\n'), std::string::npos);
   }
   EXPECT_EQ(cosim::header_line(resolve_config(default_config())),
-            "rayunits-trax-cosim 1 format=e8m23 tms=4 box=plain:7:2 tri=robust:29:1 noise=fixed:4:1");
+            "rayunits-trax-cosim 1 format=e8m23 tms=4 box=plain:7:2 tri=robust:29:1 noise=fixed-trunc:4:1");
 }
 
 // ------------------------------------------------------------------ study workloads
@@ -548,7 +597,7 @@ TEST(LongTraxAreas, MeasuresResumesAndReproducesTheCheckedInRows) {
   r = trax_areas("--units fp_add,fp_dot3 --out '" + out + "'");
   EXPECT_EQ(r.code, 2);
   EXPECT_EQ(r.err, "rayunits trax areas: error: --units: 'fp_dot3' is not a TRaX unit (accepted: fp_add, fp_mul, "
-                   "fp_div, fp_sqrt, fp_cmp, ray_box, ray_tri_robust, ray_tri_mt, noise)\n");
+                   "fp_div, fp_sqrt, fp_cmp, ray_box, ray_tri_robust, ray_tri_mt, noise_trunc, noise)\n");
   r = trax_areas("--flow osu999 --out '" + out + "'");
   EXPECT_EQ(r.code, 2);
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;

@@ -439,7 +439,7 @@ Kind render_kind() {
       {"tri", T::Str, "--tri", parses(render::parse_tri), {}, "robust | mt"},
       {"box", T::Str, "--box", parses(render::parse_box), {}, "plain | conservative"},
       {"bvh", T::Str, "--bvh", parses(render::parse_bvh), {}, "sah | median"},
-      {"noise", T::Str, "--noise", parses(render::parse_noise), {}, "float | fixed"},
+      {"noise", T::Str, "--noise", parses(render::parse_noise), {}, "float | fixed | fixed-trunc"},
       {"leaf", T::Int, "--leaf", int_range(1, 64), {}, "triangles per leaf"},
       size_key("WxH or N"),
       {"threads", T::Int, "--threads", int_range(1, 64), {}, "render threads"},
@@ -510,7 +510,7 @@ Kind study_image_kind() {
       size_key("WxH"),
       {"bvh", T::Str, "--bvh", parses(render::parse_bvh), {}, "median | sah"},
       {"box", T::Str, "--box", parses(render::parse_box), {}, "plain | conservative"},
-      {"noise", T::Str, "--noise", parses(render::parse_noise), {}, "float | fixed"},
+      {"noise", T::Str, "--noise", parses(render::parse_noise), {}, "float | fixed | fixed-trunc"},
       {"threads", T::Int, "--threads", int_range(1, 64), {}, "render threads"},
   };
   k.required = {"exp", "frac"};

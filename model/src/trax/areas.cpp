@@ -70,9 +70,10 @@ bool parse_row(const nlohmann::json& r, double nand2_um2, std::string* k, Row* r
     return fail("no integer \"stages\" >= 0");
   const int stages = r["stages"].get<int>();
   std::string fmt = "-";
-  if (unit == "noise") {
+  const bool fmtless = !synth::find_unit(unit).uses_format;
+  if (fmtless) {
     if (r.contains("format") && !r["format"].is_null() && r["format"] != "-")
-      return fail("the noise unit has no format (got " + r["format"].dump() + ")");
+      return fail("the " + unit + " unit has no format (got " + r["format"].dump() + ")");
   } else {
     if (!r.contains("format") || !r["format"].is_string()) return fail("no string \"format\"");
     try {
@@ -100,7 +101,7 @@ bool parse_row(const nlohmann::json& r, double nand2_um2, std::string* k, Row* r
   if (opt("--stages") != std::to_string(stages))
     return fail("command has --stages " + (opt("--stages").empty() ? std::string("(none)") : opt("--stages")) +
                 ", the row says stages " + std::to_string(stages));
-  if (unit != "noise" && opt("--format") != fmt)
+  if (!fmtless && opt("--format") != fmt)
     return fail("command has --format " + (opt("--format").empty() ? std::string("(none)") : opt("--format")) +
                 ", the row says format " + fmt);
   row->flow = r.value("flow", std::string("generic"));
@@ -269,7 +270,7 @@ const Row& fp_row_at(const Loaded& T, const Config& c, const char* unit, Unit wh
 
 const std::vector<std::string>& area_table_units() {
   static const std::vector<std::string> u = {"fp_add", "fp_mul", "fp_div", "fp_sqrt", "fp_cmp", "ray_box",
-                                             "ray_tri_robust", "ray_tri_mt", "noise"};
+                                             "ray_tri_robust", "ray_tri_mt", "noise_trunc", "noise"};
   return u;
 }
 
@@ -280,7 +281,7 @@ Unit area_table_unit(const std::string& u) {
   if (u == "fp_sqrt") return Unit::FpSqrt;
   if (u == "fp_cmp") return Unit::FpCmp;
   if (u == "ray_box") return Unit::Box;
-  if (u == "noise") return Unit::Noise;
+  if (u == "noise" || u == "noise_trunc") return Unit::Noise;
   if (u == "ray_tri_robust" || u == "ray_tri_mt") return Unit::Tri;
   throw ConfigError("'" + u + "' is not a TRaX unit (accepted: " + joined_units() + ")");
 }
@@ -288,6 +289,7 @@ Unit area_table_unit(const std::string& u) {
 int area_table_latency(Config& c, const std::string& u) {
   const Unit t = area_table_unit(u);
   if (t == Unit::Tri) c.tri = u == "ray_tri_mt" ? "mt" : "robust";
+  if (t == Unit::Noise) c.noise = u == "noise" ? "fixed" : "fixed-trunc";
   if (t == Unit::Box || t == Unit::Tri || t == Unit::Noise) return rtl_latency(c, t);
   return c.unit(t).latency;
 }
@@ -300,6 +302,8 @@ std::string area_table_path() {
   return "model/data/trax/areas.json";
 #endif
 }
+
+std::string noise_unit(const Config& c) { return c.noise == "fixed" ? "noise" : "noise_trunc"; }
 
 int rtl_latency(const Config& c, Unit u) {
   const int add = c.unit(Unit::FpAdd).latency, mul = c.unit(Unit::FpMul).latency,
@@ -395,7 +399,7 @@ Config resolve_config(const Config& in, std::vector<AreaSource>* sources) {
       case Unit::FpCmp: sunit = "fp_cmp"; break;
       case Unit::Box: sunit = "ray_box"; break;
       case Unit::Tri: sunit = c.tri == "mt" ? "ray_tri_mt" : "ray_tri_robust"; break;
-      case Unit::Noise: sunit = "noise"; break;
+      case Unit::Noise: sunit = noise_unit(c); break;
       default: break;
     }
     src.unit = sunit;
@@ -457,9 +461,9 @@ Config resolve_config(const Config& in, std::vector<AreaSource>* sources) {
       }
       src.detail = o.str();
     } else if (u == Unit::Noise) {
-      throw ConfigError("trax area table " + area_table_path() + ": no row for noise Stages " +
-                        std::to_string(synth_stages("noise", "-", k.latency)) +
-                        " (measure it with `rayunits trax areas --units noise`, or give units.noise.area a number)");
+      throw ConfigError("trax area table " + area_table_path() + ": no row for " + sunit + " Stages " +
+                        std::to_string(synth_stages(sunit, "-", k.latency)) + " (measure it with `rayunits trax areas --units " +
+                        sunit + "`, or give units.noise.area a number)");
     } else {
       const Row& r = fp_row(sunit.c_str(), u);  // a scaled estimate, or throws naming the missing row
       k.area = r.area;

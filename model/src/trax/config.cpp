@@ -192,7 +192,7 @@ Config parse_config(const std::string& text, const std::string& source, const Co
           }
         } else if (k == "tri") c.tri = R.choice(v, key, {"robust", "mt"});
         else if (k == "box") c.box = R.choice(v, key, {"plain", "conservative"});
-        else if (k == "noise") c.noise = R.choice(v, key, {"fixed", "float"});
+        else if (k == "noise") c.noise = R.choice(v, key, {"fixed-trunc", "fixed", "float"});
         else if (k == "traversal") c.traversal = R.choice(v, key, {"stack", "stackless"});
         else if (k == "bvh") c.bvh = R.choice(v, key, {"sah", "median"});
         else if (k == "leaf_size") c.leaf_size = static_cast<int>(R.integer(v, key, 1, 64));

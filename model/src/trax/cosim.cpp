@@ -47,9 +47,11 @@ std::vector<std::pair<const synth::UnitSpec*, synth::UnitConfig>> companion_unit
     v.push_back(at("ray_tri_mt", Unit::Tri, {{"OptEpsTest", 0}, {"OptVolOut", 0}}));
   else
     v.push_back(at("ray_tri_robust", Unit::Tri, {{"OptTieBreak", 0}, {"OptEpsTest", 0}, {"OptVolOut", 0}}));
-  // the chip's noise unit is the model's default FixedConfig (kernel.cpp: FixedNoise{FixedConfig{}})
-  const noise::FixedConfig nc{};
-  v.push_back(at("noise", Unit::Noise, {{"FracBits", nc.frac_bits}, {"IntBits", nc.int_bits}, {"OutW", nc.out_w}}));
+  // the chip's noise unit: default_config of its datapath (kernel.cpp, the renderer's Tracer)
+  const std::string nu = noise_unit(c);
+  const noise::FixedConfig nc =
+      noise::default_config(nu == "noise" ? noise::NoiseDatapath::kFull : noise::NoiseDatapath::kTrunc);
+  v.push_back(at(nu.c_str(), Unit::Noise, {{"FracBits", nc.frac_bits}, {"IntBits", nc.int_bits}, {"OutW", nc.out_w}}));
   return v;
 }
 

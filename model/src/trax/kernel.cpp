@@ -17,6 +17,7 @@ using units::Vec3;
 using Ray = Tracer<TVal>::Ray;
 int64_t traverse(Tracer<TVal>& tr, const Ray& r, const TVal& tmin, TVal& tmax, bool any);
 bool software_noise();
+const noise::FixedNoise& chip_noise();
 uint32_t emit_software_noise(Thread& t, const Vec3<TVal>& q);
 }  // namespace ru::trax
 
@@ -38,9 +39,9 @@ struct KernelHooks<ru::trax::TVal> {
     }
     res.reg = t->emit(trax::Op::Noise, {trax::detail::use(q.x), trax::detail::use(q.y), trax::detail::use(q.z)});
     if (t->keep_operands()) {
-      // The hardware unit's words, exactly as Tracer::noise_at feeds FixedNoise (noise = fixed;
-      // with noise = float there is no hardware unit and the record is not co-simulated).
-      static const noise::FixedNoise fx{noise::FixedConfig{}};
+      // The hardware unit's words, exactly as Tracer::noise_at feeds FixedNoise (noise = fixed-trunc
+      // or fixed; with noise = float there is no hardware unit and the record is not co-simulated).
+      const noise::FixedNoise& fx = trax::chip_noise();
       const int in_w = fx.config().frac_bits + fx.config().int_bits, out_w = fx.config().out_w;
       const uint64_t in_mask = (1ull << in_w) - 1, out_mask = (1ull << out_w) - 1;
       const int64_t x = fx.quantize(0.5 * fp_to_double(q.x)), y = fx.quantize(0.5 * fp_to_double(q.y)),
@@ -85,6 +86,7 @@ struct Ctx {
   };
   std::vector<Entry> stack;
   bool soft_noise = false;
+  const noise::FixedNoise* fixed_noise = nullptr;  // the chip's noise unit model (chip.noise)
   uint64_t noise_table_base = 0;
   uint64_t visits = 0, up_steps = 0, soft_noise_evals = 0;
   uint32_t max_stack = 0;
@@ -486,6 +488,8 @@ class RayWork : public WorkSource {
 
 bool software_noise() { return g_ctx && g_ctx->soft_noise; }
 
+const noise::FixedNoise& chip_noise() { return *g_ctx->fixed_noise; }
+
 // Software noise on the TPs (RunOptions::software_noise): the instruction sequence of the
 // hardware unit's algorithm (docs/NOISE.md steps (1)-(13)) in the chip's FP format, with its
 // dependencies and its table loads at the addresses the evaluation really uses (per-axis hash
@@ -501,7 +505,7 @@ bool software_noise() { return g_ctx && g_ctx->soft_noise; }
 uint32_t emit_software_noise(Thread& t, const Vec3<TVal>& q) {
   Ctx& C = *g_ctx;
   ++C.soft_noise_evals;
-  static const noise::FixedNoise fx{noise::FixedConfig{}};
+  const noise::FixedNoise& fx = chip_noise();
   noise::FixedTrace tr{};
   fx.eval(fx.quantize(0.5 * q.x.v.to_double()), fx.quantize(0.5 * q.y.v.to_double()),
           fx.quantize(0.5 * q.z.v.to_double()), &tr);
@@ -604,6 +608,10 @@ TraxResult run_trax(const scene::Scene& s, const Config& c_in, int width, int he
   L.mat_base = align(L.tri(static_cast<int64_t>(S.tris.size())), 4096);
   L.cam_base = align(L.mat_base + S.mats.size() * 8 * L.W, 4096);
   C.soft_noise = ro.software_noise;
+  // the model the renderer's Tracer evaluates too (the same default_config of the datapath)
+  static const noise::FixedNoise kTrunc{noise::default_config(noise::NoiseDatapath::kTrunc)},
+      kFull{noise::default_config(noise::NoiseDatapath::kFull)};
+  C.fixed_noise = c.noise == "fixed" ? &kFull : &kTrunc;
   C.noise_table_base = align(L.cam_base + 15 * L.W, 4096);
   C.parent.assign(S.nodes.size(), -1);
   for (size_t i = 0; i < S.nodes.size(); ++i)

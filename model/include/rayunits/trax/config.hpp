@@ -80,7 +80,9 @@ struct Config {
   std::string format = "e8m23";   // eXmY[-ftz] or float (= e8m23)
   std::string tri = "robust";     // robust | mt
   std::string box = "plain";      // plain | conservative
-  std::string noise = "fixed";    // fixed (the hardware unit's model) | float (NoiseRef::half)
+  // fixed-trunc (ru_noise_trunc, the default since issue 15) | fixed (ru_noise, the baseline) |
+  // float (NoiseRef::half, no hardware unit)
+  std::string noise = "fixed-trunc";
   std::string traversal = "stack";  // stack | stackless
   std::string bvh = "sah";        // sah | median
   int leaf_size = 4;
@@ -123,10 +125,14 @@ Config default_config();
 //   box            add + mul + 3 cmp
 //   tri robust     4 add + 2 mul + div + cmp      (levels add mul add mul add add div cmp)
 //   tri mt         5 add + 3 mul + div + cmp      (levels add mul add mul add add div mul add cmp)
-//   noise          4 (Kensler's four-stage unit; ru_noise Stages 4)
+//   noise          4 (Kensler's four-stage unit; ru_noise_trunc / ru_noise Stages 4)
 // with add, mul, div, cmp = the configured latencies of fp_add, fp_mul, fp_div, fp_cmp
 // (simtrax defaults 2, 2, 16, 1: box 7, robust 29, mt 33).
 int rtl_latency(const Config& c, Unit u);
+
+// The registry unit behind chip.noise: "noise_trunc" (fixed-trunc), "noise" (fixed); for
+// noise = float (no hardware unit) the default's, "noise_trunc".
+std::string noise_unit(const Config& c);
 
 // Where a unit's area (and clock) came from (resolve_config fills it).
 struct AreaSource {

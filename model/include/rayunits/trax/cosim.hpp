@@ -48,13 +48,14 @@ struct Record {
 };
 static_assert(sizeof(Record) == 32, "cosim::Record layout");
 
-// "rayunits-trax-cosim 1 format=e8m23 tms=4 box=plain:L:S tri=robust:L:S noise=fixed:L:S"
+// "rayunits-trax-cosim 1 format=e8m23 tms=4 box=plain:L:S tri=robust:L:S noise=fixed-trunc:L:S"
 // (L = latency, S = issue slots per TM = count x width; cfg must be resolved: resolve_config).
 std::string header_line(const Config& cfg);
 
 // The RTL configurations the companion must have for this resolved chip: ray_box (OptConservative
-// by chip.box), ray_tri_robust or ray_tri_mt (no tie-break, eps test or volume outputs) and noise
-// (the widths of noise::FixedConfig{}, the model the chip runs), each in the chip's format at its latency as Stages — what
+// by chip.box), ray_tri_robust or ray_tri_mt (no tie-break, eps test or volume outputs) and
+// noise_trunc or noise by chip.noise (trax::noise_unit; the widths of noise::default_config, the
+// model the chip runs), each in the chip's format at its latency as Stages — what
 // tb/trax/cosim_main.cpp looks for when it reads header_line(). `rayunits trax --cosim-build`
 // builds exactly these (rtl::ensure_cosim).
 std::vector<std::pair<const synth::UnitSpec*, synth::UnitConfig>> companion_units(const Config& cfg);
