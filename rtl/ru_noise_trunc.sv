@@ -5,7 +5,8 @@
 //   - t^2 and t^4 by truncated folded squarers, w = t^4 (4t - 3) = 4 t^4 t - 3 t^4 with one
 //     truncated multiplier (B + 2 fraction bits, so 4 t^4 t is exact at B),
 //   - gradients with B - 3 fraction bits (clamped to +-(1 - 2^-(B-3))), the dot products with
-//     B - 2 fraction bits from truncated unsigned arrays f x g's low bits plus exact sign rows,
+//     B fraction bits (as ru_noise: fewer made the noise 4x coarser near lattice points, docs/
+//     NOISE.md) from truncated unsigned arrays f x g's low bits plus exact sign rows,
 //   - the eight w * dot summed exactly in two levels (pairs, then the total).
 // Every truncated array keeps the partial-product bits of the columns >= R - 2 (two guard
 // columns below the last bit of the result, R = the shift) and adds a constant correction
@@ -44,13 +45,15 @@ module ru_noise_trunc #(
   localparam int unsigned DW    = B + 2;          // squared distance: unsigned, <= 3 * 2^B
   localparam int unsigned PW    = B + 2;          // 4 t^4 t: unsigned, < 4 * 2^B
   localparam int unsigned WW    = B + 1;          // kernel weight: signed, |w| < 2^B
-  // dot product (B - 2 fraction bits): signed, |dot| < 2 in B bits from B = 8 on (Cauchy-Schwarz
-  // with the table's largest narrowed norm and the truncation's slack: tests/noise), else B + 1
-  localparam int unsigned DotW  = (B >= 8) ? B : B + 1;
+  // dot product (DotF = B fraction bits): signed, |dot| < 2 in DotF + 2 bits from B = 8 on
+  // (Cauchy-Schwarz with the table's largest narrowed norm and the truncation's slack:
+  // tests/noise), else DotF + 3
+  localparam int unsigned DotF  = B;
+  localparam int unsigned DotW  = (B >= 8) ? DotF + 2 : DotF + 3;
   localparam int unsigned AccW  = 2 * B + 1;      // dot accumulator (B + Gb fraction bits), modulo
   localparam int unsigned PairW = WW + DotW;      // sum of two contributions w * dot: signed
-  localparam int unsigned SumW  = WW + DotW + 2;  // sum of the eight: signed (2B - 2 fraction bits)
-  localparam int          Sh    = 2 * B - 3 - OutW;  // output shift (right if > 0)
+  localparam int unsigned SumW  = WW + DotW + 2;  // sum of the eight: signed (B + DotF fraction bits)
+  localparam int          Sh    = B + DotF - 1 - OutW;  // output shift (right if > 0)
   localparam int unsigned VW    = SumW - Sh;      // scaled sum
 
   // Gradient narrowing: round(q16 / 2^(16-Gb)) (ties up), clamped to +-(2^Gb - 1).
@@ -77,10 +80,11 @@ module ru_noise_trunc #(
   endfunction
   localparam int KSq  = B - 2;   // squarers: R = B
   localparam int KMul = B - 4;   // 4 t^4 t: R = B - 2
-  localparam int KDot = B - 3;   // dot: R = B + Gb - (B - 2) = B - 1
+  localparam int RDot = B + Gb - DotF;  // dot: R = B - 3
+  localparam int KDot = RDot - 2;
   localparam logic [63:0] CorrSq  = ru_corr(B, KSq, ru_e4_square(B, KSq));
   localparam logic [63:0] CorrMul = ru_corr(B - 2, KMul, ru_e4_array(B, B, KMul, 1));
-  localparam logic [63:0] CorrDot = ru_corr(B - 1, KDot, ru_e4_array(B, Gb, KDot, 3));
+  localparam logic [63:0] CorrDot = ru_corr(RDot, KDot, ru_e4_array(B, Gb, KDot, 3));
 
   // Folded squarer of x, partial-product bits of the columns >= k only: x_i at column 2i and
   // x_i x_j (i < j) at column i + j + 1.
@@ -112,13 +116,11 @@ module ru_noise_trunc #(
   //   7 total, scaling, saturation (output)
   // Level weights: each level's logic delay in units of 100 ps, measured at the default widths:
   // OpenSTA's stage periods of Stages 7 (every level registered; `rayunits synth noise_trunc
-  // --stages 7 --flow osu018 --clock 200ps --stage-periods`: 3487 3345 4500 3071 4332 4098 3593 ps)
-  // minus 0.8 ns of clock-to-Q and setup; level 5 raised from 35 to 40 because levels 4 + 5 mapped
-  // as one stage took 6.3 ns of logic where 6 + 7 took 5.4 (with 35, Stages 5 was slower than
-  // Stages 4; docs/NOISE.md).
+  // --stages 7 --flow osu018 --clock 200ps --stage-periods`: 3583 3402 4583 3057 4399 4467 3806 ps)
+  // minus 0.8 ns of clock-to-Q and setup (docs/NOISE.md).
   localparam int unsigned NLevels = 7;
   localparam logic [ru_pipe_pkg::WW-1:0] LevelDepth = {{(ru_pipe_pkg::WW - 8 * NLevels){1'b0}},
-      8'd28, 8'd33, 8'd40, 8'd23, 8'd37, 8'd25, 8'd27};  // level 7 .. level 1
+      8'd30, 8'd37, 8'd36, 8'd23, 8'd38, 8'd26, 8'd28};  // level 7 .. level 1
   localparam logic [ru_pipe_pkg::MaxSeg:0] PipeCuts =
       ru_pipe_pkg::cut_mask_reg_out(LevelDepth, NLevels, Stages);
   localparam logic [NLevels-1:0] Cuts = PipeCuts[NLevels-1:0];
@@ -272,9 +274,9 @@ module ru_noise_trunc #(
     assign acc = AccW'(CorrDot) + m[0*AccW+:AccW] + m[1*AccW+:AccW] + m[2*AccW+:AccW]
                - sr[0*AccW+:AccW] - sr[1*AccW+:AccW] - sr[2*AccW+:AccW]
                - kr[0*AccW+:AccW] - kr[1*AccW+:AccW] - kr[2*AccW+:AccW];
-    assign c_dot[c*DotW+:DotW] = acc[B-1+:DotW];
+    assign c_dot[c*DotW+:DotW] = acc[RDot+:DotW];
     logic unused_acc;
-    assign unused_acc = (^acc[B-2:0]) ^ (^acc[AccW-1:B-1+DotW]);
+    assign unused_acc = (^acc[RDot-1:0]) ^ (^acc[AccW-1:RDot+DotW]);
   end
 
   assign l3_d = {c_dot, c_t2, c_t};

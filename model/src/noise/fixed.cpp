@@ -65,7 +65,8 @@ FixedNoise::FixedNoise(FixedConfig c, const TableSet& t) : c_(c) {
   if (trunc()) {
     const int B = c_.frac_bits, gb = grad_frac_bits();
     std::int64_t e_sq = 0, e_mul = 0, e_dot = 0, dmax_dot = 0;
-    const int k_sq = B - 2, k_mul = B - 4, k_dot = B - 3;
+    const int r_dot = B + gb - dot_frac_bits();
+    const int k_sq = B - 2, k_mul = B - 4, k_dot = r_dot - 2;
     for (int i = 0; i < B; ++i) {
       if (2 * i < k_sq) e_sq += 2 * (std::int64_t{1} << (2 * i));
       for (int j = i + 1; j < B; ++j)
@@ -80,8 +81,8 @@ FixedNoise::FixedNoise(FixedConfig c, const TableSet& t) : c_(c) {
     }
     corr_sq_ = correction(B, k_sq, e_sq);
     corr_mul_ = correction(B - 2, k_mul, e_mul);
-    corr_dot_ = correction(B - 1, k_dot, e_dot);
-    dot_slack_ = std::max(corr_dot_, dmax_dot + (std::int64_t{1} << (B - 1)) - 1 - corr_dot_);
+    corr_dot_ = correction(r_dot, k_dot, e_dot);
+    dot_slack_ = std::max(corr_dot_, dmax_dot + (std::int64_t{1} << r_dot) - 1 - corr_dot_);
   }
 }
 
@@ -195,7 +196,7 @@ std::int64_t FixedNoise::eval_full(const std::int64_t in[3], FixedTrace* tr) con
 std::int64_t FixedNoise::finish(std::int64_t sum, int sum_frac_bits, FixedTrace* tr) const {
   if (!fits_signed(sum, sum_bits())) range_fail("sum", sum, c_);
   // (13) Output scaling: value = floor(sum * 2^(out_w + 1 - F)) (F = sum_frac_bits: 2B for kFull,
-  // 2B - 2 for kTrunc), then saturation to out_w bits.
+  // 2B for kTrunc too), then saturation to out_w bits.
   const int sh = sum_frac_bits - (c_.out_w + 1);
   std::int64_t v = sh >= 0 ? (sum >> sh) : sum * (1ll << -sh);
   const std::int64_t vmax = (1ll << (c_.out_w - 1)) - 1, vmin = -(1ll << (c_.out_w - 1));
@@ -237,8 +238,8 @@ std::int64_t FixedNoise::trunc_t5x4(std::int64_t t4, std::int64_t t) const {
 std::int64_t FixedNoise::trunc_dot(const int frac[3], const std::array<int, 3>& g, int corner) const {
   // (f_i - c_i) g_i = f_i gl_i - gs_i f_i 2^Gb - c_i g_i 2^B with g_i = -gs_i 2^Gb + gl_i (two's
   // complement, Gb + 1 bits): three truncated unsigned arrays f_i x gl_i (columns >= K) and exact
-  // rows; B + Gb fraction bits, then R = B + Gb - (B - 2) = B - 1.
-  const int B = c_.frac_bits, gb = grad_frac_bits(), k = B - 3;
+  // rows; B + Gb fraction bits, then R = B + Gb - B = B - 3 (B fraction bits kept).
+  const int B = c_.frac_bits, gb = grad_frac_bits(), r = B + gb - dot_frac_bits(), k = r - 2;
   std::int64_t s = 0;
   for (int a = 0; a < 3; ++a) {
     const std::int64_t f = frac[a], gv = g[a], gl = gv & ((std::int64_t{1} << gb) - 1);
@@ -248,7 +249,7 @@ std::int64_t FixedNoise::trunc_dot(const int frac[3], const std::array<int, 3>& 
     if (gv < 0) s -= f << gb;
     if ((corner >> a) & 1) s -= gv << B;
   }
-  return (s + corr_dot_) >> (B - 1);
+  return (s + corr_dot_) >> r;
 }
 
 std::int64_t FixedNoise::eval_trunc(const std::int64_t in[3], FixedTrace* tr) const {
@@ -267,12 +268,12 @@ std::int64_t FixedNoise::eval_trunc(const std::int64_t in[3], FixedTrace* tr) co
     if (t2 >= one || t4 >= one) range_fail("t2/t4", std::max(t2, t4), c_);
     const std::int64_t w = p - 3 * t4;
     if (!fits_signed(w, w_bits())) range_fail("w", w, c_);
-    // (9) gradient (B - 3 fraction bits); (10) dot product with B - 2 fraction bits.
+    // (9) gradient (B - 3 fraction bits); (10) dot product with B fraction bits.
     const int h = x.hsh[0][cb[0]] ^ x.hsh[1][cb[1]] ^ x.hsh[2][cb[2]];
     const std::array<int, 3>& g = grad_[h];
     const std::int64_t dt = trunc_dot(x.frac, g, c);
     if (!fits_signed(dt, dot_bits())) range_fail("dot", dt, c_);
-    // (11)-(12) w * dot, summed exactly (2B - 2 fraction bits).
+    // (11)-(12) w * dot, summed exactly (2B fraction bits).
     const std::int64_t contrib = w * dt;
     sum += contrib;
     trace_corner(tr, c, {d, t, t2, t4, p, w, h, &g, dt, contrib});

@@ -80,20 +80,21 @@ class FixedNoise {
 
   // Internal ranges the RTL widths rely on (checked on every evaluation; see docs/NOISE.md).
   int w_bits() const { return trunc() ? c_.frac_bits + 1 : c_.frac_bits + 2; }  // signed
-  // signed; kTrunc: |dot| < 2 needs B bits from B = 8 on (the table's largest narrowed norm and
-  // the truncation's slack: NoiseTrunc.DotRangeByCauchySchwarz), one more below
-  int dot_bits() const { return trunc() ? (c_.frac_bits >= 8 ? c_.frac_bits : c_.frac_bits + 1) : c_.frac_bits + 2; }
+  // signed; kTrunc: |dot| < 2 needs dot_frac_bits() + 2 bits from B = 8 on (the table's largest
+  // narrowed norm and the truncation's slack: NoiseTrunc.DotRangeByCauchySchwarz), one more below
+  int dot_bits() const { return trunc() ? (c_.frac_bits >= 8 ? dot_frac_bits() + 2 : dot_frac_bits() + 3) : c_.frac_bits + 2; }
   int sum_bits() const { return trunc() ? w_bits() + dot_bits() + 2 : 2 * c_.frac_bits + 6; }
-  // Fraction bits of the gradients (kFull: B; kTrunc: B - 3) and of the dot product (B; B - 2).
+  // Fraction bits of the gradients (kFull: B; kTrunc: B - 3) and of the dot product (B in both:
+  // kTrunc had B - 2 first, which made the noise 4x coarser near lattice points, docs/NOISE.md).
   int grad_frac_bits() const { return trunc() ? c_.frac_bits - 3 : c_.frac_bits; }
-  int dot_frac_bits() const { return trunc() ? c_.frac_bits - 2 : c_.frac_bits; }
+  int dot_frac_bits() const { return c_.frac_bits; }
 
   // The truncated datapath's arithmetic (kTrunc), public for the tests and docs/NOISE.md: every
   // truncated array keeps the partial-product bits of the columns >= R - 2 (two guard columns
   // below the result's last bit), adds the constant correction C and shifts right by R.
   //   trunc_square(x)       x an unsigned B-bit value: (x^2 folded squarer, R = B)
   //   trunc_t5x4(t4, t)     4 t^4 t with B fraction bits: (t4 * t, R = B - 2)
-  //   dot(f, g, corner)     sum of (f_i - c_i) g_i with B - 2 fraction bits (R = B - 1)
+  //   dot(f, g, corner)     sum of (f_i - c_i) g_i with B fraction bits (R = B + Gb - B = B - 3)
   std::int64_t trunc_square(std::int64_t x) const;
   std::int64_t trunc_t5x4(std::int64_t t4, std::int64_t t) const;
   std::int64_t trunc_dot(const int frac[3], const std::array<int, 3>& g, int corner) const;
@@ -101,7 +102,7 @@ class FixedNoise {
   std::int64_t corr_square() const { return corr_sq_; }
   std::int64_t corr_t5x4() const { return corr_mul_; }
   std::int64_t corr_dot() const { return corr_dot_; }
-  // |trunc_dot - exact| * 2^R <= this (R = B - 1; in units of the exact sum): the correction or
+  // |trunc_dot - exact| * 2^R <= this (R = B - 3; in units of the exact sum): the correction or
   // the dropped bits' largest value minus it, plus the final floor (the range bound uses it).
   std::int64_t trunc_dot_slack() const { return dot_slack_; }
 
