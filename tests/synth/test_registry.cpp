@@ -72,6 +72,13 @@ INSTANTIATE_TEST_SUITE_P(Units, RegistryRtl, ::testing::ValuesIn(unit_names_list
 
 // Permanent negative test: a registry entry off by one (either way) is reported, naming the unit
 // and the format.
+// The texture unit's useful maximum is its noise units' (ru_texture's MaxUsefulStages is matched to
+// its registry entry above, the noise units' to theirs: this closes the chain).
+TEST(Registry, TextureMaximumIsTheNoiseUnits) {
+  const UnitSpec& t = find_unit("texture");
+  for (const char* n : {"noise", "noise_trunc"}) EXPECT_EQ(t.max_stages(UnitConfig{}), find_unit(n).max_stages(UnitConfig{})) << n;
+}
+
 TEST(Registry, OffByOneRegistryIsCaught) {
   for (const char* name : {"fp_add", "fp_mul", "noise"}) {
     for (const char* delta : {"-1", "+1"}) {
@@ -232,10 +239,15 @@ TEST(Registry, ReadmeOnePastTheMaximumAgrees) {
     EXPECT_EQ(std::stoi((*it)[2].str()), u.max_stages(c) + 1) << name;
     ++seen;
   }
-  // + the two dp units above, + ray_tri_exact, whose fast matrix is Stages 2 (the README says so)
-  EXPECT_EQ(seen + 3, static_cast<int>(units().size())) << text;
-  EXPECT_NE(md.find("ray_tri_exact at e5m10 Stages 2"), std::string::npos);
+  // + the two dp units above, + ray_tri_exact, whose fast matrix is Stages 2, + texture (Stages 4
+  // and 1; the README says so)
+  EXPECT_EQ(seen + 4, static_cast<int>(units().size())) << text;
+  EXPECT_NE(md.find("ray_tri_exact at e5m10 Stages 2 and texture at Stages 4 and 1"), std::string::npos);
   EXPECT_EQ(find_unit("ray_tri_exact").tests, std::vector<std::string>{"e5m10:s2:selftest"});
+  const std::vector<std::string>& tt = find_unit("texture").tests;
+  ASSERT_EQ(tt.size(), 2u);
+  EXPECT_EQ(tt[0].rfind("s4:", 0), 0u);
+  EXPECT_EQ(tt[1].rfind("s1:", 0), 0u);
 }
 
 TEST(Registry, ExpressionsEvaluate) {

@@ -417,12 +417,13 @@ InputGen ray_tri_exact_inputs(const UnitConfig& c, uint64_t seed) {
 // ---- noise -------------------------------------------------------------------------------------
 
 namespace {
+int param_or(const UnitConfig& c, const char* n, int def) {
+  auto it = c.params.find(n);
+  return it == c.params.end() ? def : static_cast<int>(it->second);
+}
 noise::FixedConfig noise_config(const UnitConfig& c) {
   noise::FixedConfig fc;
-  auto p = [&](const char* n, int def) {
-    auto it = c.params.find(n);
-    return it == c.params.end() ? def : static_cast<int>(it->second);
-  };
+  auto p = [&](const char* n, int def) { return param_or(c, n, def); };
   fc.frac_bits = p("FracBits", fc.frac_bits);
   fc.int_bits = p("IntBits", fc.int_bits);
   fc.out_w = p("OutW", fc.out_w);
@@ -457,6 +458,47 @@ InputGen noise_inputs(const UnitConfig& c, uint64_t seed) {
   const uint64_t mask = (1ull << fc.in_w()) - 1;
   return [rng, mask](uint64_t* in) {
     for (int i = 0; i < 3; ++i) in[i] = rng->next() & mask;  // whole range: negative, both table ends, wrap
+  };
+}
+
+// ---- texture -----------------------------------------------------------------------------------
+
+noise::TextureConfig texture_config(const UnitConfig& c) {
+  noise::TextureConfig tc;
+  tc.noise = noise_config(c);
+  tc.noise.datapath = param_or(c, "Trunc", 1) ? noise::NoiseDatapath::kTrunc : noise::NoiseDatapath::kFull;
+  tc.octaves = param_or(c, "Octaves", tc.octaves);
+  tc.lac_shift = param_or(c, "LacShift", tc.lac_shift);
+  tc.gain_shift = param_or(c, "GainShift", tc.gain_shift);
+  tc.out_frac = param_or(c, "OutF", tc.out_frac);
+  tc.validate();
+  return tc;
+}
+
+// Fields: x_i, y_i, z_i, mode_i (3 bits: 5..7 act as fbm, as in the RTL), oct_i -> value_o.
+GoldenEval texture_golden(const UnitConfig& c) {
+  auto m = std::make_shared<noise::FixedTexture>(texture_config(c));
+  const uint64_t mask = (1ull << m->config().out_w()) - 1;
+  return [m, mask](const uint64_t* in, uint64_t* out) {
+    const int mode = in[3] < static_cast<uint64_t>(noise::kTextureModes) ? static_cast<int>(in[3]) : 0;
+    const int64_t v = m->eval(static_cast<noise::TextureMode>(mode), static_cast<int>(in[4]), static_cast<int64_t>(in[0]),
+                              static_cast<int64_t>(in[1]), static_cast<int64_t>(in[2]));
+    out[0] = static_cast<uint64_t>(v) & mask;
+  };
+}
+
+// Whole-range words (negative, wrap), every mode (the unused codes too) and octave count (0 and
+// beyond Octaves are clamped), weighted to the five modes and to full octave counts.
+InputGen texture_inputs(const UnitConfig& c, uint64_t seed) {
+  const noise::TextureConfig tc = texture_config(c);
+  auto rng = std::make_shared<util::Xoshiro256ss>(seed);
+  const uint64_t mask = (1ull << tc.in_w()) - 1;
+  const int oct = tc.octaves;
+  return [rng, mask, oct](uint64_t* in) {
+    for (int i = 0; i < 3; ++i) in[i] = rng->next() & mask;
+    const uint64_t r = rng->next();
+    in[3] = (r & 15) < 14 ? (r >> 4) % 5 : (r >> 4) & 7;
+    in[4] = ((r >> 8) & 3) == 0 ? (r >> 10) & 15 : static_cast<uint64_t>(oct);
   };
 }
 

@@ -500,6 +500,60 @@ std::vector<UnitSpec> make_units() {
     };
     u.push_back(std::move(s));
   }
+  {
+    // The procedural texture unit (issue 15 §2, docs/NOISE.md "The procedural texture unit"):
+    // octave sums and material transfer functions around Units noise units; a handshake
+    // (in_ready_o: one request per ceil(n / Units) cycles), latency ceil(n / Units) + Stages.
+    UnitSpec s;
+    s.name = "texture";
+    s.top = "ru_texture";
+    s.summary = "procedural texture: fBm / turbulence octave sums, granite, marble, wood, around 1-8 noise units";
+    s.filelist = "ru_texture.f";
+    s.uses_format = false;
+    s.handshake = true;
+    s.params = {{"Stages", [](const UnitConfig& c) { return static_cast<long long>(c.stages); }}};
+    s.extra_params = {{"FracBits", 8, 5, 16, "fraction bits of the noise units' coordinates"},
+                      {"IntBits", 8, 1, 24, "integer bits of the coordinates (incl. sign)"},
+                      {"OutW", 10, 2, 38, "the noise units' output width"},
+                      {"Trunc", 1, 0, 1, "1: ru_noise_trunc inside, 0: ru_noise"},
+                      {"Octaves", 4, 1, 8, "most octaves per request"},
+                      {"Units", 1, 1, 8, "noise units inside (1, 2, 4 or 8)"},
+                      {"LacShift", 1, 1, 2, "lacunarity 2^LacShift"},
+                      {"GainShift", 1, 1, 2, "gain 2^-GainShift"},
+                      {"OutF", 12, 4, 20, "output fraction bits"}};
+    s.ports = control_ports();
+    s.ports.push_back(port("in_ready_o", PortDir::Out, PortRole::Ready, "1",
+                           "the unit accepts a request this cycle (in_valid_i && in_ready_o)"));
+    const char* w = "IntBits+FracBits+LacShift*(Octaves-1)";
+    PortSpec mode = in("mode_i", "3", "0 fbm, 1 turbulence, 2 granite, 3 marble, 4 wood (5-7 as fbm)", FieldKind::Enum);
+    mode.enum_names = {"fbm", "turbulence", "granite", "marble", "wood", "fbm5", "fbm6", "fbm7"};
+    for (PortSpec p : {in("x_i", w, "x, signed fixed point (FracBits + LacShift (Octaves-1) fraction bits)"),
+                       in("y_i", w, "y, signed fixed point"), in("z_i", w, "z, signed fixed point"), mode,
+                       in("oct_i", "4", "octaves of this request (clamped to 1..Octaves)"),
+                       port("out_valid_o", PortDir::Out, PortRole::Valid, "1",
+                            "result valid (in request order, ceil(n / Units) + Stages cycles after acceptance)"),
+                       out("value_o", "OutF+2", "texture value, signed, value / 2^OutF")})
+      s.ports.push_back(std::move(p));
+    s.max_stages_expr = "7";  // the noise units' (rtl/ru_noise_trunc.sv)
+    s.golden = models::texture_golden;
+    s.random_inputs = models::texture_inputs;
+    s.check = [](const UnitConfig& c) {
+      const UnitSpec& t = find_unit("texture");
+      const long long units = param_value(t, c, "Units");
+      if (units != 1 && units != 2 && units != 4 && units != 8)
+        throw SynthError("texture: Units must be 1, 2, 4 or 8, got " + std::to_string(units));
+      try {
+        models::texture_config(c);
+      } catch (const std::invalid_argument& e) {
+        throw SynthError(e.what());
+      }
+    };
+    s.tests = {"s4:selftest", "s1:Units=2:Octaves=3:GainShift=2:OutF=16"};
+    s.long_tests = {"s0:selftest", "s7", "smax+1:Units=4", "s2:Units=4:Octaves=4", "s3:Units=8:Octaves=8:FracBits=6:OutF=8",
+                    "s4:Trunc=0", "s2:Octaves=3:LacShift=2:FracBits=10:OutF=16", "s1:Octaves=1:OutF=20",
+                    "s5:Units=2:Octaves=5:FracBits=16:IntBits=4:OutW=20"};
+    u.push_back(std::move(s));
+  }
   return u;
 }
 

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "rayunits/dp/ir.hpp"
+#include "rayunits/noise/texture.hpp"
 #include "rayunits/num/format.hpp"
 #include "rayunits/synth/units.hpp"
 #include "rayunits/units/trace.hpp"
@@ -70,5 +71,9 @@ GoldenEval dp_golden(const UnitConfig& c, std::shared_ptr<const dp::Graph> g);
 GoldenEval noise_golden(const UnitConfig& c);
 GoldenEval noise_trunc_golden(const UnitConfig& c);  // the truncated datapath (ru_noise_trunc)
 InputGen noise_inputs(const UnitConfig& c, uint64_t seed);
+// The procedural texture unit (ru_texture, noise::FixedTexture): inputs x, y, z, mode, octaves.
+noise::TextureConfig texture_config(const UnitConfig& c);
+GoldenEval texture_golden(const UnitConfig& c);
+InputGen texture_inputs(const UnitConfig& c, uint64_t seed);
 
 }  // namespace ru::synth::models
