@@ -13,11 +13,12 @@
 // groups are pending, so one request is accepted every K cycles at most. The noise results of
 // group j leave the noise units Stages cycles later and are summed into the accumulator; after the
 // last group the transfer function is applied and the result is registered:
-//   latency = K + Stages cycles from acceptance; results leave in acceptance order.
+//   latency = K + Stages + RootStages cycles from acceptance; results leave in acceptance order.
 // Units = Octaves gives one result per clock for every n (K = 1); Units = 1 reuses one noise unit
-// for n cycles. The square root of the wood texture runs in a Stages-deep pipeline of its own
-// from the acceptance cycle (cuts placed by ru_pipe_pkg) and its result is held until the last
-// group's sum arrives.
+// for n cycles. The square root of the wood texture runs in a pipeline of its own, Stages +
+// RootStages deep, from the acceptance cycle (cuts placed by ru_pipe_pkg); the last group's sum
+// waits RootStages cycles for it (RootStages registers before the transfer functions), and the
+// root is held until that sum arrives.
 //
 //   x_i, y_i, z_i  signed, IntBits integer and FracBits + E fraction bits, E = LacShift (Octaves-1):
 //                  u = x_i / 2^(FracBits+E) in half-resolution cells (the noise unit's coordinate
@@ -30,12 +31,13 @@ module ru_texture #(
   parameter int unsigned IntBits   = 8,
   parameter int unsigned OutW      = 10,  // the noise units' output width
   parameter int unsigned Trunc     = 1,   // 1: ru_noise_trunc, 0: ru_noise
-  parameter int unsigned Octaves   = 4,   // 1..8
-  parameter int unsigned Units     = 1,   // noise units: 1, 2, 4 or 8
+  parameter int unsigned Octaves   = 8,   // 1..8
+  parameter int unsigned Units     = 4,   // noise units: 1, 2, 4 or 8
   parameter int unsigned LacShift  = 1,   // lacunarity 2^LacShift, 1..2
   parameter int unsigned GainShift = 1,   // gain 2^-GainShift, 1..2
   parameter int unsigned OutF      = 12,  // output fraction bits, 4..20
-  parameter int unsigned Stages    = 4    // the noise units' Stages (and the square root's)
+  parameter int unsigned RootStages = 2,  // extra cycles for the square root, 0..8
+  parameter int unsigned Stages    = 4    // the noise units' Stages
 ) (
   input  logic                                         clk_i,
   input  logic                                         rst_ni,
@@ -204,8 +206,9 @@ module ru_texture #(
     for (int i = 1; i < SqSeg; i++) w = ru_pipe_pkg::put_w(w, i, 4);  // one compare-subtract
     sq_weights = w;
   endfunction
-  localparam logic [ru_pipe_pkg::MaxSeg:0] SqCuts = ru_pipe_pkg::cut_mask(sq_weights(), SqSeg, Stages);
-  localparam int unsigned SqOutRegs = ru_pipe_pkg::out_regs(SqCuts, Stages);
+  localparam int unsigned SqLat = Stages + RootStages;
+  localparam logic [ru_pipe_pkg::MaxSeg:0] SqCuts = ru_pipe_pkg::cut_mask(sq_weights(), SqSeg, SqLat);
+  localparam int unsigned SqOutRegs = ru_pipe_pkg::out_regs(SqCuts, SqLat);
   logic unused_sq_cuts;
   assign unused_sq_cuts = ^SqCuts[ru_pipe_pkg::MaxSeg:SqSeg-1];
 
@@ -222,12 +225,21 @@ module ru_texture #(
   for (genvar s = 0; s < SqSeg; s++) begin : g_sq
     if (s > 0) begin : g_step
       localparam int unsigned I = RW - s;  // root bit decided in this step
-      logic [2*RW-1:0] rem, trial;
+      // Only rem >> 2I takes part: it is < 4 (root >> I) + 4 < 2^(RW-I+2) before this step (the
+      // recurrence's invariant), so HW bits hold it; the bits below 2I are the radicand's.
+      localparam int unsigned HW = (RW - I + 3 < 2 * RW - 2 * I) ? RW - I + 3 : 2 * RW - 2 * I;
+      logic [2*RW-1:0] rem, rem_n;
+      logic [HW-1:0]   hi, trial;
       logic [RW-1:0]   root;
       logic [InW-1:0]  xx;
       assign {rem, root, xx} = sq_q[(s-1)*SqDW+:SqDW];
-      assign trial = ((2*RW)'(root) << (I + 1)) + ((2*RW)'(1) << (2 * I));
-      assign sq_d[s*SqDW+:SqDW] = (trial <= rem) ? {rem - trial, root | (RW'(1) << I), xx} : {rem, root, xx};
+      assign hi    = rem[2*I+:HW];
+      assign trial = HW'({(root >> (I + 1)), 2'b01});  // (2 root_hi + 2^I) 2^I / 2^(2I)
+      always_comb begin : p_step
+        rem_n = rem;
+        if (trial <= hi) rem_n[2*I+:HW] = hi - trial;
+      end
+      assign sq_d[s*SqDW+:SqDW] = {rem_n, (trial <= hi) ? (root | (RW'(1) << I)) : root, xx};
       assign sq_vd[s] = sq_vq[s-1];
     end
     ru_pipe #(.Width(SqDW), .Depth((s + 1 < SqSeg && SqCuts[s]) ? 1 : 0)) u_cut (
@@ -277,6 +289,14 @@ module ru_texture #(
   assign acc_d = (m_j == '0) ? acc_in : acc_q + acc_in;
   always_ff @(posedge clk_i) if (m_valid) acc_q <= acc_d;
 
+  // The complete sum waits RootStages cycles for the square root.
+  logic            f_valid;
+  logic [2:0]      f_mode;
+  logic [AccW-1:0] f_sum;
+  ru_pipe #(.Width(AccW + 3), .Depth(RootStages)) u_final (
+    .clk_i, .rst_ni, .valid_i(m_valid && m_last), .data_i({m_mode, acc_d}), .valid_o(f_valid),
+    .data_o({f_mode, f_sum}));
+
   // ------------------------------------------------------------------------------------------
   // Transfer functions on the complete sum (exact), then the floor to OutF fraction bits.
   function automatic logic [OW-1:0] floor_to(input logic [63:0] r, input int unsigned frac);
@@ -289,14 +309,14 @@ module ru_texture #(
     logic [MF:0]            ms;
     logic [WF-1:0]          wg;
     logic signed [63:0]     sacc;
-    sacc = 64'($signed(acc_d));
+    sacc = 64'($signed(f_sum));
     r  = '0;
     ms = '0;
     wg = '0;
     t15 = '0;
-    case (m_mode)
+    case (f_mode)
       3'd2: begin  // granite: min(1, 1.5 T)
-        t15 = (AccW+2)'($signed(acc_d)) * 3;
+        t15 = (AccW+2)'($signed(f_sum)) * 3;
         r = (64'(t15) > (64'd1 << (SF + 1))) ? (64'd1 << (SF + 1)) : 64'(t15);
         t_val = floor_to(r, SF + 1);
       end
@@ -319,6 +339,6 @@ module ru_texture #(
   end
 
   ru_pipe #(.Width(OW), .Depth(1)) u_out (
-    .clk_i, .rst_ni, .valid_i(m_valid && m_last), .data_i(t_val), .valid_o(out_valid_o), .data_o(value_o));
+    .clk_i, .rst_ni, .valid_i(f_valid), .data_i(t_val), .valid_o(out_valid_o), .data_o(value_o));
 
 endmodule

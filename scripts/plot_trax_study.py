@@ -7,6 +7,7 @@ formats    the headline plot: rays/s per area and image error (PSNR, error pixel
 rays       rays/s and cycles per ray for primary / + shadow / + diffuse bounce
 traversal  stack vs stackless: cycles, box tests, node visits, area
 noise      hardware noise unit vs software noise: rays/s, instructions, rays/s per area
+texture    texture unit vs noise unit + TP sums vs software noise: the same three panels
 units      FP adder/multiplier count sweep: rays/s, area, rays/s per area vs threads per unit
 """
 import csv
@@ -89,6 +90,15 @@ def plot_noise(rows, fig):
          "k rays/s per mm2", "tab:purple")
 
 
+def plot_texture(rows, fig):
+    n = [r["variant"].replace(" + ", "\n+ ") for r in rows]
+    bars(fig.add_subplot(1, 3, 1), n, [num(r["rays_per_s"]) / 1e6 for r in rows], "rays/s", "M rays/s", "tab:blue")
+    bars(fig.add_subplot(1, 3, 2), n, [num(r["instructions"]) / 1e6 for r in rows], "instructions", "10^6",
+         "tab:orange")
+    bars(fig.add_subplot(1, 3, 3), n, [num(r["rays_per_s_per_mm2"]) / 1e3 for r in rows], "rays/s per area",
+         "k rays/s per mm2", "tab:purple")
+
+
 def plot_units(rows, fig):
     x = [num(r["threads_per_fp_unit"]) for r in rows]
     ax1 = fig.add_subplot(1, 2, 1)
@@ -113,12 +123,13 @@ def plot_units(rows, fig):
 
 
 PLOTS = {"formats": (plot_formats, (12, 4.8)), "rays": (plot_rays, (12, 3.8)),
-         "traversal": (plot_traversal, (14, 3.6)), "noise": (plot_noise, (12, 3.8)), "units": (plot_units, (12, 4.4))}
+         "traversal": (plot_traversal, (14, 3.6)), "noise": (plot_noise, (12, 3.8)), "units": (plot_units, (12, 4.4)),
+         "texture": (plot_texture, (12, 3.8))}
 
 
 def main():
     if len(sys.argv) != 4 or sys.argv[1] not in PLOTS:
-        sys.exit("usage: plot_trax_study.py formats|rays|traversal|noise|units trax_KIND.csv out.png")
+        sys.exit("usage: plot_trax_study.py formats|rays|traversal|noise|units|texture trax_KIND.csv out.png")
     rows = list(csv.DictReader(open(sys.argv[2])))
     if not rows:
         sys.exit(f"{sys.argv[2]}: no rows")

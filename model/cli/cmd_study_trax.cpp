@@ -23,7 +23,7 @@ int run_study_trax(int argc, char** argv) {
   sa.add(app, "default");
   std::string kind = "all", size = "32x32", config_path, formats, out;
   bool no_plot = false, quiet = false;
-  app.add_option("--kind", kind, "formats | rays | traversal | noise | units | all");
+  app.add_option("--kind", kind, "formats | rays | traversal | noise | units | texture | all");
   app.add_option("--size", size, "image size WxH (or N)");
   app.add_option("--config", config_path, "TRaX configuration (TOML) the studies start from");
   app.add_option("--formats", formats, "formats study: comma-separated formats (default e5m8 ... e8m23)");
@@ -38,7 +38,7 @@ int run_study_trax(int argc, char** argv) {
   else {
     bool ok = false;
     for (const auto& k : trax::kStudyKinds) ok = ok || k == kind;
-    if (!ok) throw UsageError("unknown --kind '" + kind + "' (accepted: formats, rays, traversal, noise, units, all)");
+    if (!ok) throw UsageError("unknown --kind '" + kind + "' (accepted: formats, rays, traversal, noise, units, texture, all)");
     kinds = {kind};
   }
   trax::StudyOptions o;

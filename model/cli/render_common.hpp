@@ -48,7 +48,7 @@ auto parse_or_usage(F f) -> decltype(f()) {
 struct RenderCommand {
   SceneArgs sa;
   render::RenderOptions opt;
-  std::string format = "float", tri = "robust", box = "plain", bvh = "sah", noise = "float";
+  std::string format = "float", tri = "robust", box = "plain", bvh = "sah", noise = "float", texture = "shader";
   std::string out, trace_out, diff_out, json_out;
   std::string compare_noise;  // --compare-noise: the reference's noise model ("": as --noise)
   render::NoiseMode ref_noise = render::NoiseMode::Float;

@@ -1,7 +1,7 @@
 // tb/texture: the test plan of the unit texture (ru_texture, the procedural texture unit of issue
 // 15 §2) on the shared scoreboard. The unit has a handshake (in_ready_o): a request of n octaves
 // (oct_i clamped to 1..Octaves) occupies the sequencer for K = ceil(n / Units) cycles and its
-// result leaves K + Stages cycles after acceptance, results in acceptance order. The scoreboard
+// result leaves K + Stages + RootStages cycles after acceptance, results in acceptance order. The scoreboard
 // checks every result bit against the golden model (noise::FixedTexture) and, in every cycle,
 // in_ready_o and out_valid_o against TextureTiming below (the rules of rtl/ru_texture.sv's
 // header), so each result's cycle is checked exactly.
@@ -63,13 +63,14 @@ void texture_plan(const ConfigDesc& cfg) {
   const synth::UnitConfig uc = unit_config(cfg);
   const noise::TextureConfig tc = synth::models::texture_config(uc);
   const int units = static_cast<int>(synth::param_value(u, uc, "Units"));
+  const int root = static_cast<int>(synth::param_value(u, uc, "RootStages"));
   RegistryPlanHooks h;
   h.timing = true;
-  const int worst = noise::texture_groups(tc.octaves, units) + uc.stages;
-  h.options = [units, tc, worst](RunOptions& o) {
+  const int worst = noise::texture_groups(tc.octaves, units) + uc.stages + root;
+  h.options = [units, tc, worst, root](RunOptions& o) {
     o.max_latency = worst + 1;
-    o.timing = [units, tc](const RunOptions& ro) {
-      return std::make_unique<TextureTiming>(units, tc.octaves, ro.stages + ro.inject.latency_delta);
+    o.timing = [units, tc, root](const RunOptions& ro) {
+      return std::make_unique<TextureTiming>(units, tc.octaves, ro.stages + root + ro.inject.latency_delta);
     };
   };
   registry_plan(cfg, h);

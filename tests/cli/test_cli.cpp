@@ -635,16 +635,39 @@ TEST_F(Cli, RenderCompareNoise) {
                png + " --json " + js);
   ASSERT_EQ(r.code, 0) << r.err;
   std::smatch m;
-  ASSERT_TRUE(std::regex_search(r.out, m, std::regex(R"(vs double \(noise float\): [0-9]+ pixels .* PSNR ([0-9.]+|inf) dB)"))) << r.out;
+  ASSERT_TRUE(std::regex_search(r.out, m, std::regex(R"(vs double \(noise float, texture shader\): [0-9]+ pixels .* PSNR ([0-9.]+|inf) dB)"))) << r.out;
   EXPECT_NE(m[1].str(), "inf") << "the noise unit's image equals the float-noise one: the reference did not switch";
   EXPECT_NE(read_file(js).find("\"noise\":\"float\""), std::string::npos) << read_file(js);
   Proc same = run("render --scene default --format double --noise fixed-trunc --compare --size 48x32 --quiet --out " + png);
   ASSERT_EQ(same.code, 0) << same.err;
-  EXPECT_NE(same.out.find("vs double (noise fixed-trunc): 0 pixels"), std::string::npos) << same.out;
+  EXPECT_NE(same.out.find("vs double (noise fixed-trunc, texture shader): 0 pixels"), std::string::npos) << same.out;
   EXPECT_NE(same.out.find("PSNR inf dB"), std::string::npos) << same.out;
   const std::string bad = (d.path() / "b.png").string();
   expect_one_line_error(run("render --scene default --noise fixed-fast --out " + bad), "accepted: float, fixed, fixed-trunc");
   expect_one_line_error(run("render --scene default --noise fixed --compare-noise float --out " + bad), "--compare-noise needs --compare");
+  EXPECT_FALSE(std::filesystem::exists(bad));
+}
+
+// render --texture unit (ru_texture's model): against the float shader it differs but stays
+// close; against itself it is exact; float noise with the unit is one line and leaves no PNG.
+TEST_F(Cli, RenderTextureUnit) {
+  TempDir d;
+  const std::string png = (d.path() / "t.png").string(), js = (d.path() / "t.json").string();
+  Proc r = run("render --scene noisy --format double --noise fixed-trunc --texture unit --compare --compare-noise float "
+               "--size 48x32 --quiet --out " + png + " --json " + js);
+  ASSERT_EQ(r.code, 0) << r.err;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(r.out, m, std::regex(R"(vs double \(noise float, texture shader\): [0-9]+ pixels .* PSNR ([0-9.]+|inf) dB)"))) << r.out;
+  ASSERT_NE(m[1].str(), "inf");
+  EXPECT_GT(std::stod(m[1].str()), 25.0);
+  EXPECT_NE(read_file(js).find("\"texture\":\"unit\""), std::string::npos) << read_file(js);
+  EXPECT_NE(read_file(js).find("\"texture_evals\":"), std::string::npos) << read_file(js);
+  Proc same = run("render --scene noisy --format double --noise fixed-trunc --texture unit --compare --size 48x32 --quiet --out " + png);
+  ASSERT_EQ(same.code, 0) << same.err;
+  EXPECT_NE(same.out.find("vs double (noise fixed-trunc, texture unit): 0 pixels"), std::string::npos) << same.out;
+  const std::string bad = (d.path() / "b.png").string();
+  expect_one_line_error(run("render --scene noisy --texture unit --out " + bad), "--texture unit needs a fixed noise model");
+  expect_one_line_error(run("render --scene noisy --noise fixed --texture gpu --out " + bad), "accepted: shader, unit");
   EXPECT_FALSE(std::filesystem::exists(bad));
 }
 

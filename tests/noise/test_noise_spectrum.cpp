@@ -180,15 +180,21 @@ TEST(NoiseBounds, HalfResolutionBoundHoldsAndIsTight) {
 }
 
 TEST(NoiseBounds, FixedBoundIsRigorousForSmallB) {
-  // B = 5: the exhaustive bound, checked against every input of the first 4 x 4 x 4 cells.
-  FixedNoise f({5, 8, 16});
-  double b = bound_fixed(f);
-  double mx = 0;
-  for (std::int64_t x = 0; x < 128; ++x)
-    for (std::int64_t y = 0; y < 128; ++y)
-      for (std::int64_t z = 0; z < 128; ++z) mx = std::max(mx, std::fabs(f.to_real(f.eval(x, y, z))));
-  EXPECT_LE(mx, b);
-  EXPECT_LT(b, 0.5);
+  // B = 5: the exhaustive bound, checked against every input of the first 4 x 4 x 4 cells, for
+  // both datapaths (a bound that assumed the truncated dot product's former width failed here).
+  for (const NoiseDatapath dp : {NoiseDatapath::kFull, NoiseDatapath::kTrunc}) {
+    FixedConfig c{5, 8, 16};
+    c.datapath = dp;
+    FixedNoise f(c);
+    double b = bound_fixed(f);
+    double mx = 0;
+    for (std::int64_t x = 0; x < 128; ++x)
+      for (std::int64_t y = 0; y < 128; ++y)
+        for (std::int64_t z = 0; z < 128; ++z) mx = std::max(mx, std::fabs(f.to_real(f.eval(x, y, z))));
+    EXPECT_LE(mx, b) << c.describe();
+    EXPECT_GT(mx, 0.5 * b) << c.describe();  // and not loose
+    EXPECT_LT(b, 0.5);
+  }
 }
 
 }  // namespace

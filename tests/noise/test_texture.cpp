@@ -91,7 +91,7 @@ std::int64_t word(std::mt19937_64& g, const TextureConfig& c) {
 
 const std::vector<TextureConfig>& configs() {
   static const std::vector<TextureConfig> v = {
-      TextureConfig{},                                            // the default: B 8, 4 octaves, trunc
+      TextureConfig{},                                            // the default: B 8, 8 octaves, trunc
       config(8, 4, 1, 1, 12, NoiseDatapath::kFull),               // around ru_noise
       config(6, 8, 1, 2, 8, NoiseDatapath::kTrunc),               // 8 octaves, gain 1/4
       config(10, 3, 2, 1, 16, NoiseDatapath::kTrunc),             // lacunarity 4
@@ -159,7 +159,8 @@ TEST(Texture, OctaveInputsAreTheNoiseUnitsQuantizedScaledPoints) {
     TextureTrace tr{};
     t.eval(TextureMode::kFbm, 4, x, y, z, &tr);
     ASSERT_EQ(tr.n, 4);
-    const double u = std::ldexp(static_cast<double>(x - ((x >> 18) & 1 ? (1 << 19) : 0)), -t.config().in_frac());
+    const int w = t.config().in_w();
+    const double u = std::ldexp(static_cast<double>(x - ((x >> (w - 1)) & 1 ? (std::int64_t{1} << w) : 0)), -t.config().in_frac());
     for (int o = 0; o < 4; ++o) EXPECT_EQ(tr.in[o][0], t.noise().quantize(std::ldexp(u, o))) << o;
   }
 }

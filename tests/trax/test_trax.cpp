@@ -197,6 +197,8 @@ void expect_same_image(const Config& c, int w, int h, bool check_counts) {
   EXPECT_EQ(r.primary_rays, st.primary_rays);
   EXPECT_EQ(r.shadow_rays, st.shadow_rays);
   EXPECT_EQ(r.noise_evals, st.noise_evals);
+  EXPECT_EQ(r.texture_evals, st.texture_evals);
+  EXPECT_EQ(r.sim.unit_ops[static_cast<int>(Unit::Texture)], st.texture_evals);
   if (check_counts) {  // the stack traversal tests exactly the renderer's pairs
     EXPECT_EQ(r.box_tests, st.box_tests);
     EXPECT_EQ(r.tri_tests, st.tri_tests);
@@ -220,6 +222,42 @@ TEST(TraxImage, ReducedFormatsEqualRenderer) {
   c.tri = "robust";
   c.noise = "float";
   expect_same_image(c, 12, 16, true);
+}
+
+// chip.texture = "unit": one TEXTURE per procedural sample, the renderer's texture-unit image.
+TEST(TraxImage, TextureUnitEqualsRenderer) {
+  Config c = default_config();
+  c.format = "e7m16";
+  c.texture = "unit";
+  expect_same_image(c, 16, 16, true);
+  const TraxResult r = run_trax(scene16(), c, 16, 16);
+  EXPECT_GT(r.texture_evals, 0u);
+  EXPECT_EQ(r.sim.unit_ops[static_cast<int>(Unit::Noise)], 0u);  // no NOISE instruction left
+  c.noise = "float";  // the unit is fixed point: refused with one line
+  EXPECT_THROW(c.validate("test"), ConfigError);
+}
+
+// Hand schedule of the texture unit's occupancy (one TP, 4 independent requests of 8 octaves on
+// one unit with width 4: K = 2 cycles each, latency Stages 4 + RootStages 2 + K):
+//   c0 Atomic (item ready at 1); requests issue at 1, 3, 5, 7 (each waits for the unit, 1 cycle
+//   of contention in between); the last is ready at 7 + 2 + 6 = 15; c8 Atomic: no work, halt
+//   (ready 9). Total 15 cycles, 3 contention stalls. With width 8 (K = 1): 1, 2, 3, 4 -> ready
+//   4 + 1 + 6 = 11, no stall.
+TEST(TraxTiming, TextureUnitOccupancy) {
+  for (const int width : {4, 8}) {
+    Config c = tiny();
+    c.unit(Unit::Texture) = {4, 1, width, 0};
+    FunctionWork w(1, [](uint64_t, Thread& t) {
+      for (int i = 0; i < 4; ++i) {
+        t.emit(Op::Texture, {Thread::kItemReg});
+        t.stream().code.back().aux = 8;
+      }
+    });
+    const SimStats st = simulate(c, w);
+    EXPECT_EQ(st.cycles, width == 4 ? 15u : 11u) << width;
+    EXPECT_EQ(st.stall_contention, width == 4 ? 3u : 0u) << width;
+    EXPECT_EQ(st.unit_ops[static_cast<int>(Unit::Texture)], 4u);
+  }
 }
 
 TEST(TraxImage, StacklessEqualsRenderer) {

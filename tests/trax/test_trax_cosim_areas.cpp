@@ -16,6 +16,8 @@
 #include <nlohmann/json.hpp>
 
 #include "rayunits/noise/fixed.hpp"
+#include "rayunits/noise/texture.hpp"
+#include "rayunits/render/render.hpp"
 #include "rayunits/num/fp.hpp"
 #include "rayunits/scene/scene.hpp"
 #include "rayunits/synth/cell.hpp"
@@ -73,7 +75,7 @@ struct AreaTable {
 };
 // A cell-flow row as `rayunits trax areas` writes it (the fields the model reads).
 std::string row(const char* unit, const char* fmt, int stages, double area, double fmax = 100) {
-  const bool noise = std::strncmp(unit, "noise", 5) == 0;  // noise, noise_trunc: no format
+  const bool noise = std::strncmp(unit, "noise", 5) == 0 || std::strcmp(unit, "texture") == 0;  // no format
   return std::string("{\"unit\": \"") + unit + "\", \"format\": " + (noise ? "null" : "\"" + std::string(fmt) + "\"") +
          ", \"stages\": " + std::to_string(stages) + ", \"flow\": \"osu018\", \"area_um2\": " + std::to_string(area) +
          ", \"fmax_mhz\": " + std::to_string(fmax) + ", \"command\": \"rayunits synth " + unit +
@@ -89,7 +91,7 @@ std::string fp_rows() {
   return row("fp_add", "e8m23", 2, 100, 200) + ", " + row("fp_mul", "e8m23", 2, 1000, 150) + ", " +
          row("fp_div", "e8m23", 16, 5000, 300) + ", " + row("fp_sqrt", "e8m23", 16, 2500, 320) + ", " +
          row("fp_cmp", "e8m23", 1, 10, 400) + ", " + row("noise_trunc", "-", 4, 777, 120) + ", " +
-         row("noise", "-", 4, 1234, 110);
+         row("noise", "-", 4, 1234, 110) + ", " + row("texture", "-", 4, 4321, 150);
 }
 std::string resolve_error(const std::string& json, const Config& c = default_config()) {
   AreaTable t("areas_err.json", json);
@@ -216,7 +218,7 @@ TEST(TraxAreas, MalformedTableIsOneLineNamingTheRow) {
   std::string wrong_unit = row("fp_mul", "e8m23", 2, 1000);
   wrong_unit.replace(wrong_unit.find("\"unit\": \"fp_mul\""), 16, "\"unit\": \"fp_add\"");
   one_line(resolve_error(table_json(good + ", " + wrong_unit)),
-           "row 8 (fp_add e8m23 Stages 2): command synthesizes 'fp_mul', the row says unit 'fp_add'");
+           "row 9 (fp_add e8m23 Stages 2): command synthesizes 'fp_mul', the row says unit 'fp_add'");
   // a row whose format differs from its command's
   std::string wrong_fmt = row("fp_add", "e7m16", 2, 100);
   wrong_fmt.replace(wrong_fmt.find("\"format\": \"e7m16\""), 17, "\"format\": \"e8m23\"");
@@ -232,7 +234,7 @@ TEST(TraxAreas, MalformedTableIsOneLineNamingTheRow) {
   one_line(resolve_error(table_json(row("fp_add", "e8m23", 2, 100, 0))), "no number \"fmax_mhz\" > 0");
   one_line(resolve_error(table_json(row("fp_dot3", "e8m23", 2, 100))), "unit 'fp_dot3' is not a TRaX unit");
   one_line(resolve_error(table_json(good + ", " + row("fp_add", "e8m23", 2, 100))),
-           "row 8: a second row for fp_add|e8m23|2 in flow osu018");
+           "row 9: a second row for fp_add|e8m23|2 in flow osu018");
   one_line(resolve_error(table_json(row("fp_add", "e9m99", 2, 100))), "row 1 (fp_add e9m99 Stages 2): format:");
   one_line(resolve_error("{\"rows\": [" + good + "]}"), "no \"nand2_cell\"");
   one_line(resolve_error("{\"rows\": [" + good), "not JSON");
@@ -419,7 +421,7 @@ namespace {
 struct Checker : IssueObserver {
   ru::num::Format fmt;
   bool mt = false, swap_box_planes = false, full_noise = false;
-  uint64_t boxes = 0, tris = 0, noises = 0, bad = 0;
+  uint64_t boxes = 0, tris = 0, noises = 0, textures = 0, bad = 0;
   void issue(const UnitIssue& u) override {
     using ru::num::Soft;
     ru::num::SoftScope scope(fmt);
@@ -437,6 +439,14 @@ struct Checker : IssueObserver {
       if (uint64_t(r.hit) != u.data[17] || uint64_t(r.why) != u.data[18] || r.t.bits != u.data[19] ||
           r.beta.bits != u.data[20] || r.gamma.bits != u.data[21])
         ++bad;
+    } else if (u.op == Op::Texture) {
+      ++textures;
+      static const ru::noise::FixedTexture tx{ru::render::texture_config(ru::render::NoiseMode::FixedTrunc)};
+      const int w = tx.config().in_w();
+      auto sx = [w](uint64_t v) { return static_cast<int64_t>(v << (64 - w)) >> (64 - w); };
+      const int64_t v = tx.eval(static_cast<ru::noise::TextureMode>(u.data[3]), static_cast<int>(u.data[4]), sx(u.data[0]),
+                                sx(u.data[1]), sx(u.data[2]));
+      if ((static_cast<uint64_t>(v) & ((1ull << tx.config().out_w()) - 1)) != u.data[5]) ++bad;
     } else {
       ++noises;
       // the chip's default unit, ru_noise_trunc (chip.noise = fixed-trunc)
@@ -490,6 +500,17 @@ TEST(TraxObserver, OperandRecordsReproduceTheGoldenResults) {
   const TraxResult rf = run_trax(s, c, 8, 8, ro);
   EXPECT_EQ(f.bad, 0u);
   EXPECT_EQ(f.noises, rf.noise_evals);
+  // chip.texture = "unit": the TEXTURE records are the texture unit's words and results
+  Checker tk;
+  tk.fmt = k.fmt;
+  ro.observer = &tk;
+  c.noise = "fixed-trunc";
+  c.texture = "unit";
+  const TraxResult rt = run_trax(s, c, 8, 8, ro);
+  EXPECT_EQ(tk.bad, 0u);
+  EXPECT_GT(tk.textures, 0u);
+  EXPECT_EQ(tk.textures, rt.texture_evals);
+  EXPECT_EQ(tk.noises, 0u);
 }
 
 TEST(TraxCosim, MissingCompanionIsOneLine) {
@@ -588,7 +609,7 @@ TEST(LongTraxAreas, MeasuresResumesAndReproducesTheCheckedInRows) {
   setenv("RU_TRAX_AREAS", out.c_str(), 1);
   Config c = default_config();
   c.format = "e5m6";
-  for (Unit u : {Unit::FpMul, Unit::FpDiv, Unit::FpSqrt, Unit::Box, Unit::Tri, Unit::Noise}) c.unit(u).area = 1;
+  for (Unit u : {Unit::FpMul, Unit::FpDiv, Unit::FpSqrt, Unit::Box, Unit::Tri, Unit::Noise, Unit::Texture}) c.unit(u).area = 1;
   const Config rc = resolve_config(c);
   EXPECT_EQ(rc.unit(Unit::FpAdd).area, fresh.at("rows")[0].at("area_um2").get<double>());
   EXPECT_EQ(rc.clock_mhz, fresh.at("rows")[0].at("fmax_mhz").get<double>());  // fp_add is slower than fp_cmp
@@ -597,7 +618,7 @@ TEST(LongTraxAreas, MeasuresResumesAndReproducesTheCheckedInRows) {
   r = trax_areas("--units fp_add,fp_dot3 --out '" + out + "'");
   EXPECT_EQ(r.code, 2);
   EXPECT_EQ(r.err, "rayunits trax areas: error: --units: 'fp_dot3' is not a TRaX unit (accepted: fp_add, fp_mul, "
-                   "fp_div, fp_sqrt, fp_cmp, ray_box, ray_tri_robust, ray_tri_mt, noise_trunc, noise)\n");
+                   "fp_div, fp_sqrt, fp_cmp, ray_box, ray_tri_robust, ray_tri_mt, noise_trunc, noise, texture)\n");
   r = trax_areas("--flow osu999 --out '" + out + "'");
   EXPECT_EQ(r.code, 2);
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;

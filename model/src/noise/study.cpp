@@ -146,7 +146,7 @@ double bound_fixed(const FixedNoise& f) {
     }
   }
   // |dot| <= (|p| + slack) / 2^R with p the exact sum (units 2^-(B + Gb)); kFull: the floor only
-  const int r = trunc ? B - 1 : B;
+  const int r = B + f.grad_frac_bits() - f.dot_frac_bits();  // the dot product's shift (kFull: B; kTrunc: B - 3)
   const std::int64_t slack = trunc ? f.trunc_dot_slack() : (std::int64_t{1} << B) - 1;
   auto isqrt_ceil = [](std::uint64_t n) {
     std::uint64_t r = static_cast<std::uint64_t>(std::sqrt(static_cast<double>(n)));

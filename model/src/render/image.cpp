@@ -31,6 +31,8 @@ nlohmann::json to_json(const RenderStats& s) {
           {"box_tests", s.box_tests},
           {"tri_tests", s.tri_tests},
           {"noise_evals", s.noise_evals},
+          {"texture_evals", s.texture_evals},
+          {"shading_samples", s.shading_samples},
           {"bvh_nodes", s.bvh_nodes},
           {"sah_cost", s.sah_cost},
           {"trace_boxes", s.trace_boxes},

@@ -61,6 +61,18 @@ NoiseMode parse_noise(const std::string& s) {
   if (s == "fixed-trunc") return NoiseMode::FixedTrunc;
   throw std::invalid_argument("unknown noise model '" + s + "' (accepted: float, fixed, fixed-trunc)");
 }
+
+TextureImpl parse_texture(const std::string& s) {
+  if (s == "shader") return TextureImpl::Shader;
+  if (s == "unit") return TextureImpl::Unit;
+  throw std::invalid_argument("unknown texture implementation '" + s + "' (accepted: shader, unit)");
+}
+
+noise::TextureConfig texture_config(NoiseMode m) {
+  noise::TextureConfig c;
+  c.noise = noise::default_config(m == NoiseMode::Fixed ? noise::NoiseDatapath::kFull : noise::NoiseDatapath::kTrunc);
+  return c;  // the defaults: 8 octaves, lacunarity 2, gain 1/2, 12 output fraction bits
+}
 units::BoxMode parse_box(const std::string& s) {
   if (s == "plain") return units::BoxMode::Plain;
   if (s == "conservative") return units::BoxMode::Conservative;
@@ -204,6 +216,8 @@ Image render_t(const scene::Scene& s, const RenderOptions& opt, const num::Forma
     st.box_tests += tr.cnt.box;
     st.tri_tests += tr.cnt.tri;
     st.noise_evals += tr.cnt.noise;
+    st.texture_evals += tr.cnt.texture;
+    st.shading_samples += tr.cnt.shading;
   };
   util::ParallelOptions po;
   if (opt.progress)

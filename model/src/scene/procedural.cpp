@@ -148,6 +148,36 @@ Scene default_scene() {
   return s;
 }
 
+// The noise-heavy scene of issue 15 §2 (after Fig. 4.1: every surface procedural): the default
+// scene's objects with eight-octave turbulence on the granite floor, the marble sphere and a
+// marble back wall, and a granite torus; the wooden box keeps its one evaluation per sample.
+Scene noisy_scene() {
+  Scene s;
+  s.name = "noisy";
+  Builder b{s};
+  auto eight = [](Material m) {
+    m.octaves = 8;
+    return m;
+  };
+  uint32_t floor = b.material(eight(procedural("granite", MaterialKind::Turbulence, {0.75, 0.72, 0.66},
+                                               {0.35, 0.33, 0.30}, 2.0)));
+  uint32_t marble = b.material(eight(procedural("marble", MaterialKind::Marble, {0.92, 0.92, 0.95},
+                                                {0.25, 0.30, 0.45}, 1.5)));
+  uint32_t wall = b.material(eight(procedural("wall marble", MaterialKind::Marble, {0.85, 0.80, 0.70},
+                                              {0.45, 0.20, 0.15}, 0.8)));
+  uint32_t wood = b.material(procedural("wood", MaterialKind::Wood, {0.80, 0.55, 0.30}, {0.45, 0.25, 0.10}, 3.0));
+  uint32_t stone = b.material(eight(procedural("torus granite", MaterialKind::Turbulence, {0.30, 0.60, 0.55},
+                                               {0.10, 0.25, 0.25}, 4.0)));
+  b.grid({-4, -4, 0}, {8, 0, 0}, {0, 8, 0}, 8, 8, floor);
+  b.grid({-4, 3, 0}, {8, 0, 0}, {0, 0, 5}, 8, 5, wall);
+  b.icosphere({-1.3, 0.2, 1.0}, 1.0, 3, marble);
+  b.oriented_box({1.4, 0.6, 0.7}, {0.7, 0.7, 0.7}, 0.5, wood);
+  b.torus({0.3, -1.6, 0.35}, 0.7, 0.3, 48, 24, stone);
+  s.camera = {{0.0, -7.0, 3.2}, {0.0, 0.0, 0.6}, {0, 0, 1}, 40.0};
+  s.light = {4.0, -5.0, 8.0};
+  return s;
+}
+
 Scene sphere_scene() {
   Scene s;
   s.name = "sphere";
@@ -279,11 +309,11 @@ void scale_scene(Scene& s, double f) {
 }
 
 std::vector<std::string> builtin_scene_names() {
-  return {"default", "sphere", "cornell", "arch", "balls", "wave", "bunny", "dragon", "armadillo"};
+  return {"default", "noisy", "sphere", "cornell", "arch", "balls", "wave", "bunny", "dragon", "armadillo"};
 }
 
 std::string scene_name_help() {
-  return "default, sphere, cornell, arch, balls, wave (procedural), bunny, dragon, armadillo "
+  return "default, noisy, sphere, cornell, arch, balls, wave (procedural), bunny, dragon, armadillo "
          "(CGAL demo meshes, scripts/install-deps.sh --long); suffix @FACTOR scales, e.g. default@1e-6";
 }
 
@@ -298,6 +328,7 @@ Scene make_scene(const std::string& full) {
   }
   Scene s;
   if (name == "default") s = default_scene();
+  else if (name == "noisy") s = noisy_scene();
   else if (name == "sphere") s = sphere_scene();
   else if (name == "cornell") s = cornell_scene();
   else if (name == "arch") s = arch_scene();

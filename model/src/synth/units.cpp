@@ -503,7 +503,7 @@ std::vector<UnitSpec> make_units() {
   {
     // The procedural texture unit (issue 15 §2, docs/NOISE.md "The procedural texture unit"):
     // octave sums and material transfer functions around Units noise units; a handshake
-    // (in_ready_o: one request per ceil(n / Units) cycles), latency ceil(n / Units) + Stages.
+    // (in_ready_o: one request per ceil(n / Units) cycles), latency ceil(n / Units) + Stages + RootStages.
     UnitSpec s;
     s.name = "texture";
     s.top = "ru_texture";
@@ -516,11 +516,12 @@ std::vector<UnitSpec> make_units() {
                       {"IntBits", 8, 1, 24, "integer bits of the coordinates (incl. sign)"},
                       {"OutW", 10, 2, 38, "the noise units' output width"},
                       {"Trunc", 1, 0, 1, "1: ru_noise_trunc inside, 0: ru_noise"},
-                      {"Octaves", 4, 1, 8, "most octaves per request"},
-                      {"Units", 1, 1, 8, "noise units inside (1, 2, 4 or 8)"},
+                      {"Octaves", 8, 1, 8, "most octaves per request"},
+                      {"Units", 4, 1, 8, "noise units inside (1, 2, 4 or 8)"},
                       {"LacShift", 1, 1, 2, "lacunarity 2^LacShift"},
                       {"GainShift", 1, 1, 2, "gain 2^-GainShift"},
-                      {"OutF", 12, 4, 20, "output fraction bits"}};
+                      {"OutF", 12, 4, 20, "output fraction bits"},
+                      {"RootStages", 2, 0, 8, "extra cycles of the square root (wood); latency K + Stages + RootStages"}};
     s.ports = control_ports();
     s.ports.push_back(port("in_ready_o", PortDir::Out, PortRole::Ready, "1",
                            "the unit accepts a request this cycle (in_valid_i && in_ready_o)"));
@@ -531,7 +532,7 @@ std::vector<UnitSpec> make_units() {
                        in("y_i", w, "y, signed fixed point"), in("z_i", w, "z, signed fixed point"), mode,
                        in("oct_i", "4", "octaves of this request (clamped to 1..Octaves)"),
                        port("out_valid_o", PortDir::Out, PortRole::Valid, "1",
-                            "result valid (in request order, ceil(n / Units) + Stages cycles after acceptance)"),
+                            "result valid (in request order, ceil(n / Units) + Stages + RootStages cycles after acceptance)"),
                        out("value_o", "OutF+2", "texture value, signed, value / 2^OutF")})
       s.ports.push_back(std::move(p));
     s.max_stages_expr = "7";  // the noise units' (rtl/ru_noise_trunc.sv)
@@ -548,9 +549,11 @@ std::vector<UnitSpec> make_units() {
         throw SynthError(e.what());
       }
     };
-    s.tests = {"s4:selftest", "s1:Units=2:Octaves=3:GainShift=2:OutF=16"};
-    s.long_tests = {"s0:selftest", "s7", "smax+1:Units=4", "s2:Units=4:Octaves=4", "s3:Units=8:Octaves=8:FracBits=6:OutF=8",
-                    "s4:Trunc=0", "s2:Octaves=3:LacShift=2:FracBits=10:OutF=16", "s1:Octaves=1:OutF=20",
+    // default Octaves 8, Units 4: the renderer's and the chip's texture unit (render::texture_config)
+    s.tests = {"s4:Units=1:Octaves=4:selftest", "s1:Units=2:Octaves=3:GainShift=2:OutF=16:RootStages=0"};
+    s.long_tests = {"s4:selftest", "s0:Units=1:Octaves=4:selftest", "s7:Units=1:Octaves=4", "smax+1", "s2:Octaves=4",
+                    "s3:Units=8:FracBits=6:OutF=8", "s4:Units=1:Octaves=4:Trunc=0",
+                    "s2:Units=1:Octaves=3:LacShift=2:FracBits=10:OutF=16", "s1:Units=1:Octaves=1:OutF=20:RootStages=8",
                     "s5:Units=2:Octaves=5:FracBits=16:IntBits=4:OutW=20"};
     u.push_back(std::move(s));
   }

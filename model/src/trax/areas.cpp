@@ -121,6 +121,8 @@ bool parse_row(const nlohmann::json& r, double nand2_um2, std::string* k, Row* r
   } else {
     return fail("unknown flow '" + row->flow + "' (" + synth::flow_names_list() + ")");
   }
+  if (std::find(w.begin(), w.end(), "--param") != w.end())
+    return fail("command sets --param (the table holds each unit at its registry defaults only)");
   row->format = fmt;
   *k = key(unit, fmt, stages);
   return true;
@@ -270,7 +272,7 @@ const Row& fp_row_at(const Loaded& T, const Config& c, const char* unit, Unit wh
 
 const std::vector<std::string>& area_table_units() {
   static const std::vector<std::string> u = {"fp_add", "fp_mul", "fp_div", "fp_sqrt", "fp_cmp", "ray_box",
-                                             "ray_tri_robust", "ray_tri_mt", "noise_trunc", "noise"};
+                                             "ray_tri_robust", "ray_tri_mt", "noise_trunc", "noise", "texture"};
   return u;
 }
 
@@ -282,6 +284,7 @@ Unit area_table_unit(const std::string& u) {
   if (u == "fp_cmp") return Unit::FpCmp;
   if (u == "ray_box") return Unit::Box;
   if (u == "noise" || u == "noise_trunc") return Unit::Noise;
+  if (u == "texture") return Unit::Texture;
   if (u == "ray_tri_robust" || u == "ray_tri_mt") return Unit::Tri;
   throw ConfigError("'" + u + "' is not a TRaX unit (accepted: " + joined_units() + ")");
 }
@@ -290,7 +293,7 @@ int area_table_latency(Config& c, const std::string& u) {
   const Unit t = area_table_unit(u);
   if (t == Unit::Tri) c.tri = u == "ray_tri_mt" ? "mt" : "robust";
   if (t == Unit::Noise) c.noise = u == "noise" ? "fixed" : "fixed-trunc";
-  if (t == Unit::Box || t == Unit::Tri || t == Unit::Noise) return rtl_latency(c, t);
+  if (t == Unit::Box || t == Unit::Tri || t == Unit::Noise || t == Unit::Texture) return rtl_latency(c, t);
   return c.unit(t).latency;
 }
 
@@ -312,6 +315,7 @@ int rtl_latency(const Config& c, Unit u) {
     case Unit::Box: return add + mul + 3 * cmp;
     case Unit::Tri: return c.tri == "mt" ? 5 * add + 3 * mul + div + cmp : 4 * add + 2 * mul + div + cmp;
     case Unit::Noise: return 4;
+    case Unit::Texture: return 4;  // its Stages (a request takes ceil(n / width) + RootStages more)
     default: return c.unit(u).latency;
   }
 }
@@ -350,7 +354,7 @@ ChipClock sta_clock(const Config& c, const std::vector<AreaSource>& sources, con
 
 Config resolve_config(const Config& in, std::vector<AreaSource>* sources) {
   Config c = in;
-  for (Unit u : {Unit::Box, Unit::Tri, Unit::Noise})
+  for (Unit u : {Unit::Box, Unit::Tri, Unit::Noise, Unit::Texture})
     if (c.unit(u).latency == kLatencyRtl) c.unit(u).latency = rtl_latency(c, u);
   const std::string fmt = format_name(c);
   const std::shared_ptr<const Loaded> table = load_table();  // held for this call
@@ -400,10 +404,20 @@ Config resolve_config(const Config& in, std::vector<AreaSource>* sources) {
       case Unit::Box: sunit = "ray_box"; break;
       case Unit::Tri: sunit = c.tri == "mt" ? "ray_tri_mt" : "ray_tri_robust"; break;
       case Unit::Noise: sunit = noise_unit(c); break;
+      case Unit::Texture: sunit = "texture"; break;
       default: break;
     }
     src.unit = sunit;
-    const std::string f = u == Unit::Noise ? "-" : fmt;
+    if (u == Unit::Texture) {  // the table's texture rows are the registry defaults: Units 4, Octaves 8
+      long long def = 0;
+      for (const auto& p : synth::find_unit("texture").extra_params)
+        if (p.name == "Units") def = p.def;
+      if (k.width != def)
+        throw ConfigError("trax area table " + area_table_path() + ": the texture rows are ru_texture with Units " +
+                          std::to_string(def) + " (units.texture.width = " + std::to_string(k.width) +
+                          "): give units.texture.area a number");
+    }
+    const std::string f = u == Unit::Noise || u == Unit::Texture ? "-" : fmt;
     if (const Row* r = lookup(T, sunit, f, k.latency)) {
       k.area = r->area;
       k.fmax_mhz = r->fmax_mhz;
@@ -460,10 +474,10 @@ Config resolve_config(const Config& in, std::vector<AreaSource>* sources) {
         }
       }
       src.detail = o.str();
-    } else if (u == Unit::Noise) {
+    } else if (u == Unit::Noise || u == Unit::Texture) {
       throw ConfigError("trax area table " + area_table_path() + ": no row for " + sunit + " Stages " +
                         std::to_string(synth_stages(sunit, "-", k.latency)) + " (measure it with `rayunits trax areas --units " +
-                        sunit + "`, or give units.noise.area a number)");
+                        sunit + "`, or give units." + unit_name(u) + ".area a number)");
     } else {
       const Row& r = fp_row(sunit.c_str(), u);  // a scaled estimate, or throws naming the missing row
       k.area = r.area;

@@ -16,7 +16,7 @@ namespace ru::trax {
 
 namespace {
 const char* const kUnitNames[kUnits] = {"fp_add", "fp_mul", "fp_div", "fp_sqrt", "fp_cmp", "conv",
-                                        "int",    "branch", "box",    "tri",     "noise"};
+                                        "int",    "branch", "box",    "tri",     "noise",  "texture"};
 
 std::string fmt_num(double v) {
   std::ostringstream o;
@@ -116,6 +116,9 @@ Config default_config() {
   c.unit(Unit::Box) = {kLatencyRtl, 2, 1, kAreaSynth, 0, 0};
   c.unit(Unit::Tri) = {kLatencyRtl, 1, 1, kAreaSynth, 0, 0};
   c.unit(Unit::Noise) = {kLatencyRtl, 1, 1, kAreaSynth, 0, 0};
+  // width = the noise units inside (ru_texture's Units): a request of n octaves occupies it for
+  // ceil(n / width) cycles; latency "rtl" = their Stages (a request takes ceil(n / width) more)
+  c.unit(Unit::Texture) = {kLatencyRtl, 1, 4, kAreaSynth, 0, 0};
   return c;
 }
 
@@ -124,6 +127,12 @@ void Config::validate(const std::string& source) const {
   if (tms < 1 || tms > 4096) R.fail("chip.tms", "must be in 1..4096");
   if (tps_per_tm < 1 || tps_per_tm > 4096) R.fail("chip.tps_per_tm", "must be in 1..4096");
   if (!(clock_mhz > 0) && clock_mhz != kClockSta) R.fail("chip.clock_mhz", "must be > 0 or \"sta\"");
+  if (texture == "unit" && noise == "float")
+    R.fail("chip.texture", "\"unit\" needs a fixed noise (chip.noise = \"fixed-trunc\" or \"fixed\")");
+  {
+    const int w = units[static_cast<int>(Unit::Texture)].width;
+    if (w != 1 && w != 2 && w != 4 && w != 8) R.fail("units.texture.width", "the noise units inside: 1, 2, 4 or 8");
+  }
   if (format != "float") {
     try {
       num::Format::parse(format).validate();
@@ -135,7 +144,7 @@ void Config::validate(const std::string& source) const {
     const UnitCfg& u = units[i];
     const std::string k = std::string("units.") + kUnitNames[i];
     const bool rtl_ok = i == static_cast<int>(Unit::Box) || i == static_cast<int>(Unit::Tri) ||
-                        i == static_cast<int>(Unit::Noise);
+                        i == static_cast<int>(Unit::Noise) || i == static_cast<int>(Unit::Texture);
     if (u.latency < 1 && !(u.latency == kLatencyRtl && rtl_ok))
       R.fail(k + ".latency", rtl_ok ? "must be >= 1 or \"rtl\"" : "must be >= 1");
     if (u.count < 1) R.fail(k + ".count", "must be >= 1");
@@ -193,6 +202,7 @@ Config parse_config(const std::string& text, const std::string& source, const Co
         } else if (k == "tri") c.tri = R.choice(v, key, {"robust", "mt"});
         else if (k == "box") c.box = R.choice(v, key, {"plain", "conservative"});
         else if (k == "noise") c.noise = R.choice(v, key, {"fixed-trunc", "fixed", "float"});
+        else if (k == "texture") c.texture = R.choice(v, key, {"shader", "unit"});
         else if (k == "traversal") c.traversal = R.choice(v, key, {"stack", "stackless"});
         else if (k == "bvh") c.bvh = R.choice(v, key, {"sah", "median"});
         else if (k == "leaf_size") c.leaf_size = static_cast<int>(R.integer(v, key, 1, 64));
@@ -201,7 +211,7 @@ Config parse_config(const std::string& text, const std::string& source, const Co
         else if (k == "framebuffer_bytes_per_pixel")
           c.framebuffer_bytes_per_pixel = static_cast<int>(R.integer(v, key, 1, 64));
         else
-          R.fail(key, "unknown key (accepted in [chip]: tms, tps_per_tm, clock_mhz, format, tri, box, noise, "
+          R.fail(key, "unknown key (accepted in [chip]: tms, tps_per_tm, clock_mhz, format, tri, box, noise, texture, "
                       "traversal, bvh, leaf_size, registers_per_thread, local_store_bytes, "
                       "framebuffer_bytes_per_pixel)");
       }
@@ -219,8 +229,8 @@ Config parse_config(const std::string& text, const std::string& source, const Co
           if (k == "latency") {
             if (v.value_exact<std::string>() && *v.value_exact<std::string>() == "rtl") {
               if (idx != static_cast<int>(Unit::Box) && idx != static_cast<int>(Unit::Tri) &&
-                  idx != static_cast<int>(Unit::Noise))
-                R.fail(key, "\"rtl\" is accepted for box, tri and noise only");
+                  idx != static_cast<int>(Unit::Noise) && idx != static_cast<int>(Unit::Texture))
+                R.fail(key, "\"rtl\" is accepted for box, tri, noise and texture only");
               u.latency = kLatencyRtl;
             } else {
               u.latency = static_cast<int>(R.integer(v, key, 1, 100000));
@@ -230,8 +240,9 @@ Config parse_config(const std::string& text, const std::string& source, const Co
           else if (k == "area") {
             if (v.value_exact<std::string>() && *v.value_exact<std::string>() == "synth") {
               if (idx > static_cast<int>(Unit::FpCmp) && idx != static_cast<int>(Unit::Box) &&
-                  idx != static_cast<int>(Unit::Tri) && idx != static_cast<int>(Unit::Noise))
-                R.fail(key, "\"synth\" is accepted for the FP, box, tri and noise units only");
+                  idx != static_cast<int>(Unit::Tri) && idx != static_cast<int>(Unit::Noise) &&
+                  idx != static_cast<int>(Unit::Texture))
+                R.fail(key, "\"synth\" is accepted for the FP, box, tri, noise and texture units only");
               u.area = kAreaSynth;
             } else {
               u.area = R.number(v, key, 0, 1e12);
@@ -304,7 +315,8 @@ std::string to_toml(const Config& c) {
   else
     o << fmt_num(c.clock_mhz) << (std::floor(c.clock_mhz) == c.clock_mhz ? ".0" : "");
   o << "\nformat = \"" << c.format << "\"\ntri = \""
-    << c.tri << "\"\nbox = \"" << c.box << "\"\nnoise = \"" << c.noise << "\"\ntraversal = \"" << c.traversal
+    << c.tri << "\"\nbox = \"" << c.box << "\"\nnoise = \"" << c.noise << "\"\ntexture = \"" << c.texture
+    << "\"\ntraversal = \"" << c.traversal
     << "\"\nbvh = \"" << c.bvh << "\"\nleaf_size = " << c.leaf_size
     << "\nregisters_per_thread = " << c.registers_per_thread << "\nlocal_store_bytes = " << c.local_store_bytes
     << "\nframebuffer_bytes_per_pixel = " << c.framebuffer_bytes_per_pixel << "\n";

@@ -83,6 +83,9 @@ bool read_line(int fd, std::string& line) {
 }  // namespace
 
 void Client::start(const Config& cfg) {
+  if (cfg.texture == "unit")
+    throw std::runtime_error("--cosim: the texture unit is not co-simulated in a chip run (chip.texture = \"unit\"; "
+                             "ru_texture is verified by ctest -R texture_); run with texture = \"shader\"");
   std::error_code ec;
   if (!fs::exists(exe_, ec) || ::access(exe_.c_str(), X_OK) != 0)
     throw std::runtime_error("--cosim: the RTL co-simulation executable " + exe_ +

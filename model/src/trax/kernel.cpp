@@ -18,6 +18,7 @@ using Ray = Tracer<TVal>::Ray;
 int64_t traverse(Tracer<TVal>& tr, const Ray& r, const TVal& tmin, TVal& tmax, bool any);
 bool software_noise();
 const noise::FixedNoise& chip_noise();
+const noise::FixedTexture& chip_texture();
 uint32_t emit_software_noise(Thread& t, const Vec3<TVal>& q);
 }  // namespace ru::trax
 
@@ -50,6 +51,25 @@ struct KernelHooks<ru::trax::TVal> {
           static_cast<uint64_t>(x) & in_mask, static_cast<uint64_t>(y) & in_mask, static_cast<uint64_t>(z) & in_mask,
           static_cast<uint64_t>(fx.eval(x, y, z)) & out_mask};
       t->attach(w, trax::kNoiseIn + trax::kNoiseOut);
+    }
+  }
+  // One TEXTURE instruction (chip.texture = "unit"): the octave count rides along (occupancy).
+  static void texture(int mode, int n, const Vec3<trax::TVal>& q, trax::TVal& res) {
+    trax::Thread* t = trax::Thread::current();
+    if (!t) return;
+    res.reg = t->emit(trax::Op::Texture, {trax::detail::use(q.x), trax::detail::use(q.y), trax::detail::use(q.z)});
+    t->stream().code.back().aux = static_cast<uint8_t>(n);
+    if (t->keep_operands()) {
+      // the unit's words, exactly as Tracer::texture_at feeds FixedTexture
+      const noise::FixedTexture& fx = trax::chip_texture();
+      const uint64_t in_mask = (1ull << fx.config().in_w()) - 1, out_mask = (1ull << fx.config().out_w()) - 1;
+      const int64_t x = fx.quantize(0.5 * fp_to_double(q.x)), y = fx.quantize(0.5 * fp_to_double(q.y)),
+                    z = fx.quantize(0.5 * fp_to_double(q.z));
+      const uint64_t w[trax::kTextureIn + trax::kTextureOut] = {
+          static_cast<uint64_t>(x) & in_mask, static_cast<uint64_t>(y) & in_mask, static_cast<uint64_t>(z) & in_mask,
+          static_cast<uint64_t>(mode), static_cast<uint64_t>(n),
+          static_cast<uint64_t>(fx.eval(static_cast<noise::TextureMode>(mode), n, x, y, z)) & out_mask};
+      t->attach(w, trax::kTextureIn + trax::kTextureOut);
     }
   }
 };
@@ -87,6 +107,7 @@ struct Ctx {
   std::vector<Entry> stack;
   bool soft_noise = false;
   const noise::FixedNoise* fixed_noise = nullptr;  // the chip's noise unit model (chip.noise)
+  const noise::FixedTexture* texture = nullptr;    // the chip's texture unit model (its noise datapath)
   uint64_t noise_table_base = 0;
   uint64_t visits = 0, up_steps = 0, soft_noise_evals = 0;
   uint32_t max_stack = 0;
@@ -362,7 +383,8 @@ Prepared<TVal> tag(const Prepared<Soft>& S, const Layout& L) {
   P.depth = S.depth;
   for (size_t m = 0; m < S.mats.size(); ++m) {
     const uint64_t a = L.mat_base + m * 8 * L.W;
-    P.mats.push_back({S.mats[m].kind, vec(S.mats[m].c1, a), vec(S.mats[m].c2, a + 3 * L.W), val(S.mats[m].freq, a + 6 * L.W)});
+    P.mats.push_back({S.mats[m].kind, vec(S.mats[m].c1, a), vec(S.mats[m].c2, a + 3 * L.W), val(S.mats[m].freq, a + 6 * L.W),
+                      S.mats[m].octaves});
   }
   P.eye = vec(S.eye, L.cam_base);
   P.c = vec(S.c, L.cam_base + 3 * L.W);
@@ -489,6 +511,7 @@ class RayWork : public WorkSource {
 bool software_noise() { return g_ctx && g_ctx->soft_noise; }
 
 const noise::FixedNoise& chip_noise() { return *g_ctx->fixed_noise; }
+const noise::FixedTexture& chip_texture() { return *g_ctx->texture; }
 
 // Software noise on the TPs (RunOptions::software_noise): the instruction sequence of the
 // hardware unit's algorithm (docs/NOISE.md steps (1)-(13)) in the chip's FP format, with its
@@ -560,6 +583,7 @@ render::RenderOptions render_options(const Config& c, int width, int height) {
   o.box = render::parse_box(c.box);
   o.bvh = render::parse_bvh(c.bvh);
   o.noise = render::parse_noise(c.noise);
+  o.texture = render::parse_texture(c.texture);
   o.leaf_size = c.leaf_size;
   o.shadows = true;
   o.threads = 1;
@@ -612,6 +636,9 @@ TraxResult run_trax(const scene::Scene& s, const Config& c_in, int width, int he
   static const noise::FixedNoise kTrunc{noise::default_config(noise::NoiseDatapath::kTrunc)},
       kFull{noise::default_config(noise::NoiseDatapath::kFull)};
   C.fixed_noise = c.noise == "fixed" ? &kFull : &kTrunc;
+  static const noise::FixedTexture kTexTrunc{render::texture_config(render::NoiseMode::FixedTrunc)},
+      kTexFull{render::texture_config(render::NoiseMode::Fixed)};
+  C.texture = c.noise == "fixed" ? &kTexFull : &kTexTrunc;
   C.noise_table_base = align(L.cam_base + 15 * L.W, 4096);
   C.parent.assign(S.nodes.size(), -1);
   for (size_t i = 0; i < S.nodes.size(); ++i)
@@ -644,6 +671,8 @@ TraxResult run_trax(const scene::Scene& s, const Config& c_in, int width, int he
   R.box_tests = tracer.cnt.box;
   R.tri_tests = tracer.cnt.tri;
   R.noise_evals = tracer.cnt.noise;
+  R.texture_evals = tracer.cnt.texture;
+  R.shading_samples = tracer.cnt.shading;
   R.node_visits = C.visits;
   R.up_steps = C.up_steps;
   R.max_stack = C.max_stack;

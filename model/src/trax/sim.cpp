@@ -11,11 +11,14 @@
 #include <cstdio>
 #include <unordered_map>
 
+#include "rayunits/noise/texture.hpp"
+#include "rayunits/synth/units.hpp"
+
 namespace ru::trax {
 
 const char* op_name(Op op) {
   static const char* const n[kOps] = {"fadd", "fmul", "fdiv", "fsqrt", "fcmp", "conv", "int", "branch", "box",
-                                      "tri",  "noise", "load", "ldlocal", "stlocal", "store", "atomic"};
+                                      "tri",  "noise", "texture", "load", "ldlocal", "stlocal", "store", "atomic"};
   return n[static_cast<int>(op)];
 }
 
@@ -111,7 +114,8 @@ struct TM {
   Cache l1;
   std::array<int, kUnits> used{};
   std::vector<uint8_t> bank_used;
-  TM(int n, const CacheCfg& c) : tps(n), l1(c), bank_used(c.banks, 0) {}
+  std::vector<uint64_t> texture_free;  // per texture unit: the first cycle it accepts a request
+  TM(int n, const CacheCfg& c, int textures) : tps(n), l1(c), bank_used(c.banks, 0), texture_free(textures, 0) {}
 };
 
 class Machine {
@@ -120,13 +124,16 @@ class Machine {
       : cfg_(c), work_(w), obs_(obs), l2_(c.l2), l2_free_(c.l2.banks, 0) {
     th_.set_keep_operands(obs != nullptr);
     tms_.reserve(c.tms);
-    for (int i = 0; i < c.tms; ++i) tms_.emplace_back(c.tps_per_tm, c.l1);
+    for (int i = 0; i < c.tms; ++i) tms_.emplace_back(c.tps_per_tm, c.l1, c.unit(Unit::Texture).count);
     for (int u = 0; u < kUnits; ++u) cap_[u] = c.units[u].count * c.units[u].width;
+    for (const auto& p : synth::find_unit("texture").extra_params)  // ru_texture's RootStages
+      if (p.name == "RootStages") texture_root_ = static_cast<int>(p.def);
     items_ = w.items();
     st.items = items_;
     running_ = c.threads();
   }
 
+  int texture_root_ = 0;
   bool done() const { return running_ == 0; }
   bool stopped() const { return obs_ && obs_->failed(); }
   uint64_t next_item() const { return next_item_; }
@@ -247,16 +254,30 @@ class Machine {
       bool is_mem = false;
       if (u != Unit::kCount) {
         const int ui = static_cast<int>(u);
-        if (tm.used[ui] >= cap_[ui]) {
+        // The texture unit: a request of n octaves occupies one of the TM's texture units for
+        // K = ceil(n / width) cycles (width = its noise units) and is done K + latency cycles later.
+        int tex = -1, tex_groups = 0;
+        if (u == Unit::Texture) {
+          for (size_t k = 0; k < tm.texture_free.size(); ++k)
+            if (tm.texture_free[k] <= now) {
+              tex = static_cast<int>(k);
+              break;
+            }
+          if (tex < 0) {
+            ++st.stall_contention;
+            continue;
+          }
+          tex_groups = noise::texture_groups(std::max<int>(1, in.aux), cfg_.units[ui].width);
+        } else if (tm.used[ui] >= cap_[ui]) {
           ++st.stall_contention;
           continue;
         }
-        if (obs_ && (u == Unit::Box || u == Unit::Tri || u == Unit::Noise)) {
+        if (obs_ && (u == Unit::Box || u == Unit::Tri || u == Unit::Noise || u == Unit::Texture)) {
           UnitIssue e;
           e.cycle = now;
           e.tm = static_cast<int>(tm_index);
           e.tp = static_cast<int>(tp_index);
-          e.slot = tm.used[ui];
+          e.slot = u == Unit::Texture ? tex : tm.used[ui];
           e.item = p.item;
           e.index = p.pc;
           e.op = in.op;
@@ -267,6 +288,10 @@ class Machine {
         ++tm.used[ui];
         ++st.unit_ops[ui];
         ready = now + cfg_.units[ui].latency;
+        if (u == Unit::Texture) {
+          tm.texture_free[tex] = now + tex_groups;
+          ready += tex_groups + texture_root_;  // latency K + Stages + RootStages (rtl/ru_texture.sv)
+        }
       } else {
         is_mem = true;
         switch (in.op) {
@@ -363,7 +388,7 @@ struct Chip : sc_core::sc_module {
 SimStats simulate(const Config& cfg, WorkSource& work, bool progress, IssueObserver* observer) {
   cfg.validate();
   Config rc = cfg;  // "rtl" latencies resolved (areas do not matter here)
-  for (Unit u : {Unit::Box, Unit::Tri, Unit::Noise})
+  for (Unit u : {Unit::Box, Unit::Tri, Unit::Noise, Unit::Texture})
     if (rc.unit(u).latency == kLatencyRtl) rc.unit(u).latency = rtl_latency(rc, u);
   const auto t0 = std::chrono::steady_clock::now();
   // A fresh simulation context per run (SystemC 2.3 cannot elaborate again after sc_start), owned

@@ -37,7 +37,7 @@ const char* texture_mode_name(TextureMode m);  // "fbm", "turbulence", "granite"
 
 struct TextureConfig {
   FixedConfig noise = default_config(NoiseDatapath::kTrunc);  // the noise units inside
-  int octaves = 4;     // most octaves per request (Octaves), 1..8
+  int octaves = 8;     // most octaves per request (Octaves), 1..8
   int lac_shift = 1;   // lacunarity 2^lac_shift, 1..2
   int gain_shift = 1;  // gain 2^-gain_shift, 1..2
   int out_frac = 12;   // OutF: fraction bits of the output, 4..20

@@ -17,6 +17,7 @@
 #include "rayunits/num/fp.hpp"
 #include "rayunits/render/arith.hpp"
 #include "rayunits/scene/scene.hpp"
+#include "rayunits/noise/texture.hpp"
 #include "rayunits/units/ray_box.hpp"
 
 namespace ru::render {
@@ -30,6 +31,15 @@ enum class NoiseMode : uint8_t { Float, Fixed, FixedTrunc };
 TriAlgo parse_tri(const std::string& s);      // "robust" | "mt"; throws std::invalid_argument
 BvhKind parse_bvh(const std::string& s);      // "sah" | "median"
 NoiseMode parse_noise(const std::string& s);  // "float" | "fixed" | "fixed-trunc"
+// How the procedural materials sum octaves and apply their transfer functions: in the shader
+// (the format's arithmetic around one noise evaluation per octave) or on the texture unit
+// (noise::FixedTexture = rtl/ru_texture.sv, one evaluation per material sample; needs a fixed
+// noise model, whose datapath its noise units use).
+enum class TextureImpl : uint8_t { Shader, Unit };
+TextureImpl parse_texture(const std::string& s);  // "shader" | "unit"
+// The texture unit of the renderer and the chip: default widths, 8 octaves at most (the
+// Octaves parameter; the scenes' materials use 1..8), the noise datapath of `noise`.
+noise::TextureConfig texture_config(NoiseMode noise);
 units::BoxMode parse_box(const std::string& s);  // "plain" | "conservative"
 // "512x384" or "256" (square), each side 1..16384; throws std::invalid_argument
 // "bad --size 'x' (expected WxH or N, 1..16384, e.g. 512x512)".
@@ -45,6 +55,7 @@ struct RenderOptions {
   BvhKind bvh = BvhKind::Sah;
   int leaf_size = 4;  // SAH: max triangles per leaf; median: Mirth's max_tris_per_leaf
   NoiseMode noise = NoiseMode::Float;
+  TextureImpl texture = TextureImpl::Shader;
   bool shadows = true;
   int threads = 2;
   bool progress = false;        // progress lines on stderr
@@ -67,6 +78,7 @@ struct RenderStats {
   double build_seconds = 0, render_seconds = 0;
   double render_cpu_seconds = 0;  // process CPU time of the render phase (all threads)
   uint64_t primary_rays = 0, shadow_rays = 0, box_tests = 0, tri_tests = 0, noise_evals = 0;
+  uint64_t texture_evals = 0, shading_samples = 0;  // texture-unit requests; procedural samples
   uint64_t trace_boxes = 0, trace_tris = 0;
   bool trace_truncated = false;
   size_t bvh_nodes = 0;

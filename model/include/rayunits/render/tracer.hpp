@@ -107,6 +107,7 @@ struct Prepared {
     scene::MaterialKind kind;
     Vec3<T> c1, c2;
     T freq;  // frequency / unit: texture coordinate = hit point * freq
+    int octaves;
   };
   std::vector<Mat> mats;
   Vec3<T> eye, c, u, v, light;
@@ -130,7 +131,7 @@ struct TraceSink {
 };
 
 struct Counters {
-  uint64_t primary = 0, shadow = 0, box = 0, tri = 0, noise = 0;
+  uint64_t primary = 0, shadow = 0, box = 0, tri = 0, noise = 0, texture = 0, shading = 0;
 };
 
 template <class T>
@@ -139,7 +140,11 @@ class Tracer {
   Tracer(const Prepared<T>& p, const RenderOptions& o)
       : P(p), opt(o), stack_(static_cast<size_t>(p.depth) + 2), pbstack_(kNative<T> ? static_cast<size_t>(p.depth) + 2 : 0), noise_ref_(noise::builtin_tables(), 64),
         fixed_(noise::default_config(o.noise == NoiseMode::FixedTrunc ? noise::NoiseDatapath::kTrunc
-                                                                         : noise::NoiseDatapath::kFull)) {}
+                                                                         : noise::NoiseDatapath::kFull)),
+        texture_(texture_config(o.noise)) {
+    if (o.texture == TextureImpl::Unit && o.noise == NoiseMode::Float)
+      throw std::invalid_argument("the texture unit needs a fixed noise model (--noise fixed-trunc or fixed), not float");
+  }
 
   Counters cnt;
   TraceSink* trace = nullptr;
@@ -421,10 +426,22 @@ class Tracer {
     return res;
   }
 
-  // Sum over 4 octaves of |noise(2^o q)| / 2^o.
-  T turbulence(const Vec3<T>& q) {
+  // One request to the texture unit (TextureImpl::Unit): the point as its input words (u = q/2,
+  // the noise unit's half-resolution coordinate), the value as a number of the format.
+  T texture_at(noise::TextureMode m, int n, const Vec3<T>& q) {
+    ++cnt.texture;
+    cnt.noise += static_cast<uint64_t>(n);
+    const std::int64_t x = texture_.quantize(0.5 * fp_to_double(q.x)), y = texture_.quantize(0.5 * fp_to_double(q.y)),
+                       z = texture_.quantize(0.5 * fp_to_double(q.z));
+    T res = fp_cast<T>(texture_.to_real(texture_.eval(m, n, x, y, z)));
+    if constexpr (KernelHooks<T>::enabled) KernelHooks<T>::texture(static_cast<int>(m), n, q, res);
+    return res;
+  }
+
+  // Sum over n octaves of |noise(2^o q)| / 2^o (the material's octaves, 4 by default).
+  T turbulence(const Vec3<T>& q, int n) {
     T sum = P.zero, amp = P.one, f = P.one;
-    for (int o = 0; o < 4; ++o) {
+    for (int o = 0; o < n; ++o) {
       sum = sum + fp_abs(noise_at(vscale(q, f))) * amp;
       f = f * P.two;
       amp = amp * P.half;
@@ -436,10 +453,18 @@ class Tracer {
     const auto& M = P.mats[m];
     if (M.kind == scene::MaterialKind::Constant) return M.c1;
     const Vec3<T> q = vscale(p, M.freq);
+    ++cnt.shading;
     T f;
+    if (opt.texture == TextureImpl::Unit) {
+      const noise::TextureMode m = M.kind == scene::MaterialKind::Marble ? noise::TextureMode::kMarble
+                                   : M.kind == scene::MaterialKind::Wood ? noise::TextureMode::kWood
+                                                                         : noise::TextureMode::kGranite;
+      f = texture_at(m, M.kind == scene::MaterialKind::Wood ? 1 : M.octaves, q);
+      return vadd(M.c2, vscale(units::vsub(M.c1, M.c2), f));
+    }
     switch (M.kind) {
       case scene::MaterialKind::Marble: {  // triangle wave across x, perturbed by turbulence
-        const T s = (q.x + turbulence(q) * fp_cast<T>(3.0)) * P.half;
+        const T s = (q.x + turbulence(q, M.octaves) * fp_cast<T>(3.0)) * P.half;
         f = fp_abs((s - fp_floor(s)) * P.two - P.one);
         break;
       }
@@ -451,7 +476,7 @@ class Tracer {
         break;
       }
       default: {  // turbulence
-        f = turbulence(q) * fp_cast<T>(1.5);
+        f = turbulence(q, M.octaves) * fp_cast<T>(1.5);
         if (P.one < f) f = P.one;
         break;
       }
@@ -564,6 +589,7 @@ class Tracer {
   std::vector<PacketEntry> pbstack_;
   noise::NoiseRef noise_ref_;
   noise::FixedNoise fixed_;
+  noise::FixedTexture texture_;
 };
 
 template <class T>
@@ -638,7 +664,7 @@ Prepared<T> prepare(const scene::Scene& s, const RenderOptions& opt, RenderStats
     if (n > 0) build_pairs<T>(P.nodes, P.root, &P.pairs, &P.root_kid);
   }
   for (const auto& m : s.materials)
-    P.mats.push_back({m.kind, vcast<T>(m.color), vcast<T>(m.color2), fp_cast<T>(m.frequency / s.unit)});
+    P.mats.push_back({m.kind, vcast<T>(m.color), vcast<T>(m.color2), fp_cast<T>(m.frequency / s.unit), m.octaves});
   // Camera (Mirth's pinhole): per-frame constants computed in double and rounded once into T.
   const auto& cam = s.camera;
   const scene::Vec3 w = scene::normalize(cam.look_at - cam.eye);

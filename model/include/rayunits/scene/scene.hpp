@@ -36,6 +36,7 @@ struct Material {
   Vec3 color{0.8, 0.8, 0.8};   // base colour (rgb in [0,1])
   Vec3 color2{0.2, 0.2, 0.2};  // second colour of procedural patterns
   double frequency = 1.0;      // texture-space frequency (per unscaled scene unit)
+  int octaves = 4;             // noise octaves of the turbulence (marble, turbulence), 1..8
 };
 
 struct Triangle {

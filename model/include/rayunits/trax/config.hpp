@@ -2,7 +2,7 @@
 //
 // The schema (every key optional; the defaults are default_config(), documented key by key in
 // model/data/trax/default.toml and docs/TRAX.md):
-//   [chip]      tms, tps_per_tm, clock_mhz ("sta" or MHz), format, tri, box, noise, traversal, bvh,
+//   [chip]      tms, tps_per_tm, clock_mhz ("sta" or MHz), format, tri, box, noise, texture, traversal, bvh,
 //               leaf_size, registers_per_thread, local_store_bytes, framebuffer_bytes_per_pixel
 //   [units.NAME] latency, count, width, area (um2 or "synth") | area_nand2 (an estimate in
 //               NAND2-eq)   NAME in unit_names() (per TM: count pipelined units, each accepting
@@ -43,6 +43,7 @@ enum class Unit : uint8_t {
   Box,        // ray-box unit (units/ray_box.hpp)
   Tri,        // ray-triangle unit (units/ray_tri.hpp, robust or mt)
   Noise,      // noise unit (noise/fixed.hpp)
+  Texture,    // procedural texture unit (noise/texture.hpp; chip.texture = "unit")
   kCount
 };
 constexpr int kUnits = static_cast<int>(Unit::kCount);
@@ -83,6 +84,9 @@ struct Config {
   // fixed-trunc (ru_noise_trunc, the default since issue 15) | fixed (ru_noise, the baseline) |
   // float (NoiseRef::half, no hardware unit)
   std::string noise = "fixed-trunc";
+  // shader: materials sum octaves on the TPs around NOISE instructions | unit: one TEXTURE
+  // instruction per material sample on ru_texture (needs a fixed noise)
+  std::string texture = "shader";
   std::string traversal = "stack";  // stack | stackless
   std::string bvh = "sah";        // sah | median
   int leaf_size = 4;
@@ -126,6 +130,7 @@ Config default_config();
 //   tri robust     4 add + 2 mul + div + cmp      (levels add mul add mul add add div cmp)
 //   tri mt         5 add + 3 mul + div + cmp      (levels add mul add mul add add div mul add cmp)
 //   noise          4 (Kensler's four-stage unit; ru_noise_trunc / ru_noise Stages 4)
+//   texture        4 (its noise units' Stages; a request of n octaves takes ceil(n / width) + 4)
 // with add, mul, div, cmp = the configured latencies of fp_add, fp_mul, fp_div, fp_cmp
 // (simtrax defaults 2, 2, 16, 1: box 7, robust 29, mt 33).
 int rtl_latency(const Config& c, Unit u);

@@ -30,7 +30,7 @@ namespace ru::trax {
 
 enum class Op : uint8_t {
   FAdd = 0, FMul, FDiv, FSqrt, FCmp, Conv, Int, Branch,  // functional units (Unit of the same order)
-  Box, Tri, Noise,
+  Box, Tri, Noise, Texture,
   Load,        // scene data through L1/L2/DRAM (dst = value)
   LoadLocal,   // per-thread local store (traversal stack)
   StoreLocal,  // per-thread local store
@@ -54,6 +54,7 @@ inline Unit op_unit(Op op) {
     case Op::Box: return Unit::Box;
     case Op::Tri: return Unit::Tri;
     case Op::Noise: return Unit::Noise;
+    case Op::Texture: return Unit::Texture;
     default: return Unit::kCount;
   }
 }
@@ -65,6 +66,7 @@ struct Instr {
   uint32_t src;   // index of the first source in Stream::srcs
   uint64_t addr;  // byte address (Load, Store, LoadLocal, StoreLocal); Box/Tri/Noise with
                   // operand recording on: offset of its operands in Stream::data
+  uint8_t aux = 0;  // Texture: the request's octave count (its occupancy and latency)
 };
 
 // Operand records of the unit instructions (kept only when Thread::keep_operands(): the RTL
@@ -74,10 +76,15 @@ struct Instr {
 //          5 out: hit, why (units::TriMiss), t, beta, gamma
 //   Noise  3 in: the noise unit's input words x, y, z (FixedNoise::quantize, two's complement
 //          masked to IntBits + FracBits); 1 out: value (masked to OutW bits)
-constexpr int kBoxIn = 14, kBoxOut = 3, kTriIn = 17, kTriOut = 5, kNoiseIn = 3, kNoiseOut = 1;
-inline int unit_inputs(Op op) { return op == Op::Box ? kBoxIn : op == Op::Tri ? kTriIn : op == Op::Noise ? kNoiseIn : 0; }
+//   Texture 5 in: the texture unit's words x, y, z (FixedTexture::quantize), mode, octaves;
+//          1 out: value (masked to OutF + 2 bits)
+constexpr int kBoxIn = 14, kBoxOut = 3, kTriIn = 17, kTriOut = 5, kNoiseIn = 3, kNoiseOut = 1, kTextureIn = 5,
+              kTextureOut = 1;
+inline int unit_inputs(Op op) {
+  return op == Op::Box ? kBoxIn : op == Op::Tri ? kTriIn : op == Op::Noise ? kNoiseIn : op == Op::Texture ? kTextureIn : 0;
+}
 inline int unit_outputs(Op op) {
-  return op == Op::Box ? kBoxOut : op == Op::Tri ? kTriOut : op == Op::Noise ? kNoiseOut : 0;
+  return op == Op::Box ? kBoxOut : op == Op::Tri ? kTriOut : op == Op::Noise ? kNoiseOut : op == Op::Texture ? kTextureOut : 0;
 }
 // The same layout by RTL data port (unit registry names, model/include/rayunits/synth/units.hpp):
 // each entry covers `n` consecutive words, the port's elements low first. The co-simulation maps
@@ -95,8 +102,9 @@ inline const std::vector<UnitWords>& unit_words(Op op) {
                                              {"p2_i", 3},   {"tmin_i", 1}, {"tmax_i", 1}, {"hit_o", 1},
                                              {"why_o", 1},  {"t_o", 1},    {"beta_o", 1}, {"gamma_o", 1}};
   static const std::vector<UnitWords> noise = {{"x_i", 1}, {"y_i", 1}, {"z_i", 1}, {"value_o", 1}};
+  static const std::vector<UnitWords> texture = {{"x_i", 1}, {"y_i", 1}, {"z_i", 1}, {"mode_i", 1}, {"oct_i", 1}, {"value_o", 1}};
   static const std::vector<UnitWords> none;
-  return op == Op::Box ? box : op == Op::Tri ? tri : op == Op::Noise ? noise : none;
+  return op == Op::Box ? box : op == Op::Tri ? tri : op == Op::Noise ? noise : op == Op::Texture ? texture : none;
 }
 
 struct Stream {

@@ -35,6 +35,7 @@ struct TraxResult {
   render::Image image;
   SimStats sim;
   uint64_t primary_rays = 0, shadow_rays = 0, bounce_rays = 0, software_noise_evals = 0, box_tests = 0, tri_tests = 0, noise_evals = 0;
+  uint64_t texture_evals = 0, shading_samples = 0;  // TEXTURE requests; procedural material samples
   uint64_t node_visits = 0;   // nodes whose children / triangles were examined
   uint64_t up_steps = 0;      // stackless: moves to a parent
   uint32_t max_stack = 0;     // stack: deepest stack (entries of 8 bytes in the local store)
