@@ -82,7 +82,16 @@ TEST(Registry, ConfigFromParamsInvertsParamsFor) {
     UnitConfig c = cfg_for(u, "e7m16");
     c.fmt.round = ru::num::Round::RDN;
     c.stages = u.max_stages(c) + 1;  // one past the maximum is accepted (the tb runs it)
-    for (const auto& p : u.extra_params) c.params[p.name] = p.hi > p.def ? p.def + 1 : p.def;
+    for (const auto& p : u.extra_params) {
+      c.params[p.name] = p.hi > p.def ? p.def + 1 : p.def;
+      if (u.check) {  // a value the unit's constraints refuse (texture Units 5): its lowest instead
+        try {
+          u.check(c);
+        } catch (const SynthError&) {
+          c.params[p.name] = p.lo;
+        }
+      }
+    }
     std::map<std::string, long long> m;
     for (const auto& [k, v] : params_for(u, c)) m[k] = v;
     const UnitConfig back = config_from_params(u, m);
