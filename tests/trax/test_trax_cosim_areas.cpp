@@ -477,36 +477,35 @@ TEST(TraxObserver, OperandRecordsReproduceTheGoldenResults) {
   EXPECT_EQ(k.noises, r.noise_evals);
   EXPECT_GT(k.noises, 0u);
   EXPECT_EQ(r.sim.observed, k.boxes + k.tris + k.noises);
+  // A checker run over the same chip (or another configuration of it).
+  auto checked = [&](Checker& x, const Config& cc) {
+    x.fmt = k.fmt;
+    ro.observer = &x;
+    return run_trax(s, cc, 8, 8, ro);
+  };
   // Planted error: the checker with the box planes swapped must disagree.
   Checker p;
-  p.fmt = k.fmt;
   p.swap_box_planes = true;
-  ro.observer = &p;
-  run_trax(s, c, 8, 8, ro);
+  checked(p, c);
   EXPECT_GT(p.bad, 0u);
   // The NOISE records are ru_noise_trunc's (the default chip.noise): checked with ru_noise's
   // model they disagree; with chip.noise = fixed they are ru_noise's.
   Checker q;
-  q.fmt = k.fmt;
   q.full_noise = true;
-  ro.observer = &q;
-  run_trax(s, c, 8, 8, ro);
+  checked(q, c);
   EXPECT_GT(q.bad, 0u);
   Checker f;
-  f.fmt = k.fmt;
   f.full_noise = true;
-  ro.observer = &f;
-  c.noise = "fixed";
-  const TraxResult rf = run_trax(s, c, 8, 8, ro);
+  Config cf = c;
+  cf.noise = "fixed";
+  const TraxResult rf = checked(f, cf);
   EXPECT_EQ(f.bad, 0u);
   EXPECT_EQ(f.noises, rf.noise_evals);
   // chip.texture = "unit": the TEXTURE records are the texture unit's words and results
   Checker tk;
-  tk.fmt = k.fmt;
-  ro.observer = &tk;
-  c.noise = "fixed-trunc";
-  c.texture = "unit";
-  const TraxResult rt = run_trax(s, c, 8, 8, ro);
+  Config ct = c;
+  ct.texture = "unit";
+  const TraxResult rt = checked(tk, ct);
   EXPECT_EQ(tk.bad, 0u);
   EXPECT_GT(tk.textures, 0u);
   EXPECT_EQ(tk.textures, rt.texture_evals);
