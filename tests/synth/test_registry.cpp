@@ -77,6 +77,13 @@ INSTANTIATE_TEST_SUITE_P(Units, RegistryRtl, ::testing::ValuesIn(unit_names_list
 TEST(Registry, TextureMaximumIsTheNoiseUnits) {
   const UnitSpec& t = find_unit("texture");
   for (const char* n : {"noise", "noise_trunc"}) EXPECT_EQ(t.max_stages(UnitConfig{}), find_unit(n).max_stages(UnitConfig{})) << n;
+  // its smallest latency: one group + Stages + RootStages (what tb/texture's timing reference checks)
+  UnitConfig c;
+  c.stages = 4;
+  EXPECT_EQ(t.latency(c), 1 + 4 + 2);
+  c.params["RootStages"] = 0;
+  EXPECT_EQ(t.latency(c), 5);
+  EXPECT_EQ(find_unit("noise_trunc").latency(c), 4);
 }
 
 TEST(Registry, OffByOneRegistryIsCaught) {

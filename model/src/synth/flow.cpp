@@ -841,7 +841,8 @@ std::string format_table(const SynthResult& r) {
   std::ostringstream o;
   const bool hs = !r.unit.empty() && find_unit(r.unit).handshake;
   o << r.top << ": " << (r.unit.empty() ? r.top : config_args(find_unit(r.unit), r.cfg)) << "  (latency "
-    << r.cfg.stages << (hs ? " or more, up to 1 op/cycle: in_ready_o)\n" : ", 1 op/cycle)\n");
+    << (r.unit.empty() ? r.cfg.stages : find_unit(r.unit).latency(r.cfg))
+    << (hs ? " or more, up to 1 op/cycle: in_ready_o)\n" : ", 1 op/cycle)\n");
   auto row = [&](const char* k, const std::string& v) {
     char b[32];
     std::snprintf(b, sizeof b, "  %-15s ", k);

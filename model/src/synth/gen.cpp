@@ -97,10 +97,11 @@ json datasheet_json(const UnitSpec& u, const UnitConfig& c, const std::vector<st
     ds["format"] = nullptr;
     ds["round"] = nullptr;
   }
-  ds["latency"] = c.stages;
+  ds["latency"] = u.latency(c);
   ds["throughput"] = 1;
   ds["throughput_unit"] = "operations per cycle";
-  // a unit with a handshake: Stages is its smallest latency, 1 per cycle its peak throughput
+  // a unit with a handshake: latency is its smallest (Stages, or UnitSpec::min_latency), 1 per
+  // cycle its peak throughput
   ds["handshake"] = u.handshake;
   json params = json::object();
   for (const auto& [k, v] : params_for(u, c)) params[k] = v;

@@ -536,6 +536,9 @@ std::vector<UnitSpec> make_units() {
                        out("value_o", "OutF+2", "texture value, signed, value / 2^OutF")})
       s.ports.push_back(std::move(p));
     s.max_stages_expr = "7";  // the noise units' (rtl/ru_noise_trunc.sv)
+    s.min_latency = [](const UnitConfig& c) {  // one group + Stages + RootStages (rtl/ru_texture.sv)
+      return 1 + c.stages + static_cast<int>(param_value(find_unit("texture"), c, "RootStages"));
+    };
     s.golden = models::texture_golden;
     s.random_inputs = models::texture_inputs;
     s.check = [](const UnitConfig& c) {
@@ -941,7 +944,7 @@ std::string wrapper_verilog(const UnitSpec& u, const UnitConfig& c) {
       << " exponent, " << c.fmt.frac_bits << " fraction), rounding " << num::round_name(c.fmt.round)
       << ", subnormals " << (c.fmt.subnormals ? "on" : "off (flush to zero)") << "\n";
   if (u.handshake)
-    o << "// latency " << c.stages << " cycle" << (c.stages == 1 ? "" : "s")
+    o << "// latency " << u.latency(c) << " cycle" << (u.latency(c) == 1 ? "" : "s")
       << " or more (results in order), accepts an operation in each cycle with in_ready_o high.\n";
   else
     o << "// latency " << c.stages << " cycle" << (c.stages == 1 ? "" : "s") << ", one operation per cycle.\n";

@@ -122,7 +122,10 @@ struct UnitSpec {
   int max_stages(const UnitConfig& c) const;
   // Latency in cycles of a configuration: every unit's latency is exactly its Stages -- except a
   // unit with a handshake, for which Stages is the smallest latency (see `handshake`).
-  int latency(const UnitConfig& c) const { return c.stages; }
+  int latency(const UnitConfig& c) const { return min_latency ? min_latency(c) : c.stages; }
+  // A handshake unit whose smallest latency is not its Stages (ru_texture: one group, the noise
+  // units' Stages and RootStages); empty: Stages.
+  std::function<int(const UnitConfig&)> min_latency;
   // The unit has in_ready_o (PortRole::Ready) and a variable latency: a result leaves Stages
   // cycles after its input or later, results in input order (ru_ray_tri_exact: a test that needs
   // the exact side path waits for it, and the ones behind it wait too). The scoreboard checks
