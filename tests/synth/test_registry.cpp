@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "rayunits/render/render.hpp"
+#include "rayunits/synth/unit_models.hpp"
 #include "rayunits/synth/units.hpp"
 
 #include "../common/files.hpp"
@@ -84,6 +86,22 @@ TEST(Registry, TextureMaximumIsTheNoiseUnits) {
   c.params["RootStages"] = 0;
   EXPECT_EQ(t.latency(c), 5);
   EXPECT_EQ(find_unit("noise_trunc").latency(c), 4);
+}
+
+// The texture unit the renderer and the chip model compute (render::texture_config) is the one the
+// registry's defaults build and the chip's area row measures (`rayunits trax areas --units texture`
+// synthesizes the defaults): every field equal. A planted difference is seen.
+TEST(Registry, TextureDefaultsAreTheRenderersUnit) {
+  auto same = [](const ru::noise::TextureConfig& a, const ru::noise::TextureConfig& b) {
+    return a.noise.frac_bits == b.noise.frac_bits && a.noise.int_bits == b.noise.int_bits &&
+           a.noise.out_w == b.noise.out_w && a.noise.datapath == b.noise.datapath && a.octaves == b.octaves &&
+           a.lac_shift == b.lac_shift && a.gain_shift == b.gain_shift && a.out_frac == b.out_frac;
+  };
+  const ru::noise::TextureConfig r = ru::render::texture_config(ru::render::NoiseMode::FixedTrunc);
+  EXPECT_TRUE(same(models::texture_config(UnitConfig{}), r));
+  UnitConfig planted;
+  planted.params["OutF"] = 13;
+  EXPECT_FALSE(same(models::texture_config(planted), r));
 }
 
 TEST(Registry, OffByOneRegistryIsCaught) {

@@ -409,9 +409,7 @@ Config resolve_config(const Config& in, std::vector<AreaSource>* sources) {
     }
     src.unit = sunit;
     if (u == Unit::Texture) {  // the table's texture rows are the registry defaults: Units 4, Octaves 8
-      long long def = 0;
-      for (const auto& p : synth::find_unit("texture").extra_params)
-        if (p.name == "Units") def = p.def;
+      const long long def = synth::param_value(synth::find_unit("texture"), synth::UnitConfig{}, "Units");
       if (k.width != def)
         throw ConfigError("trax area table " + area_table_path() + ": the texture rows are ru_texture with Units " +
                           std::to_string(def) + " (units.texture.width = " + std::to_string(k.width) +

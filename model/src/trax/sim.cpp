@@ -126,8 +126,8 @@ class Machine {
     tms_.reserve(c.tms);
     for (int i = 0; i < c.tms; ++i) tms_.emplace_back(c.tps_per_tm, c.l1, c.unit(Unit::Texture).count);
     for (int u = 0; u < kUnits; ++u) cap_[u] = c.units[u].count * c.units[u].width;
-    for (const auto& p : synth::find_unit("texture").extra_params)  // ru_texture's RootStages
-      if (p.name == "RootStages") texture_root_ = static_cast<int>(p.def);
+    texture_root_ = static_cast<int>(  // ru_texture's RootStages (the registry default)
+        synth::param_value(synth::find_unit("texture"), synth::UnitConfig{}, "RootStages"));
     items_ = w.items();
     st.items = items_;
     running_ = c.threads();
