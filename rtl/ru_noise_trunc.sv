@@ -1,16 +1,17 @@
 // ru_noise_trunc: the smaller gradient noise unit (issue 15 §1): Kensler's half-resolution noise
 // (same tables, same ports, same output convention as ru_noise) on a cheaper datapath:
 //   - one exact squarer per axis; (1 - f)^2 = f^2 + 1 - 2f by an adder (same bits as ru_noise),
-//   - t = 1 - d in B bits (1 - 2^-B at d = 0) instead of B + 1,
-//   - t^2 and t^4 by truncated folded squarers, w = t^4 (4t - 3) = 4 t^4 t - 3 t^4 with one
-//     truncated multiplier (B + 2 fraction bits, so 4 t^4 t is exact at B),
+//   - the kernel weight w = t^4 (4t - 3), t = 1 - d, from a 2^B-entry table indexed by the squared
+//     distance d: the exact value rounded to nearest in B + 1 signed bits (saturated at 1 - 2^-B
+//     for d = 0), computed at elaboration. It replaces ru_noise's t^2, t^4, t^5 products (at B = 8
+//     the table maps to a fifth of their cells); FracBits is therefore limited to 5..12,
 //   - gradients with B - 3 fraction bits (clamped to +-(1 - 2^-(B-3))), the dot products with
 //     B fraction bits (as ru_noise: fewer made the noise 4x coarser near lattice points, docs/
-//     NOISE.md) from truncated unsigned arrays f x g's low bits plus exact sign rows,
-//   - the eight w * dot summed exactly in two levels (pairs, then the total).
-// Every truncated array keeps the partial-product bits of the columns >= R - 2 (two guard
-// columns below the last bit of the result, R = the shift) and adds a constant correction
-// (half an ulp plus the expected value of the dropped bits rounded to the lowest kept column).
+//     NOISE.md) from truncated unsigned arrays f x g's low bits plus exact sign rows; the arrays
+//     keep the partial-product bits of the columns >= R - 2 (two guard columns below the last
+//     bit of the result, R = the shift) and add a constant correction (half an ulp plus the
+//     expected value of the dropped bits rounded to the lowest kept column),
+//   - the eight w * dot summed exactly (products, pairs, total).
 //
 // The tables are ru_noise's (the generated ru_noise_tables.svh; its ru_noise_gq is defined here
 // with this unit's gradient width). Bit for bit equal to ru::noise::FixedNoise with
@@ -22,7 +23,7 @@
 //                  fraction bits: u = x_i / 2^FracBits in half-resolution cells.
 //   value_o        signed OutW bits, value_o / 2^(OutW+1) ~= N(u) (as ru_noise).
 module ru_noise_trunc #(
-  parameter int unsigned FracBits = 8,   // B, 5..16
+  parameter int unsigned FracBits = 8,   // B, 5..12
   parameter int unsigned IntBits  = 8,   // 1..24
   parameter int unsigned OutW     = 10,  // 2..2*FracBits+6
   parameter int unsigned Stages   = 4    // pipeline registers (latency), 0..
@@ -43,7 +44,6 @@ module ru_noise_trunc #(
   localparam int unsigned GradW = Gb + 1;         // gradient component: signed, |g| < 2^Gb
   localparam int unsigned QW    = B + 1;          // sq1 = (1 - f)^2 in [0, 2^B]
   localparam int unsigned DW    = B + 2;          // squared distance: unsigned, <= 3 * 2^B
-  localparam int unsigned PW    = B + 2;          // 4 t^4 t: unsigned, < 4 * 2^B
   localparam int unsigned WW    = B + 1;          // kernel weight: signed, |w| < 2^B
   // dot product (DotF = B fraction bits): signed, |dot| < 2 in DotF + 2 bits from B = 8 on
   // (Cauchy-Schwarz with the table's largest narrowed norm and the truncation's slack:
@@ -66,36 +66,35 @@ module ru_noise_trunc #(
     ru_corr = 64'd1 << (r - 1);
     if (k > 0) ru_corr = ru_corr + ((64'd1 << k) * ((e4 + (64'd1 << (k + 1))) >> (k + 2)));
   endfunction
-  function automatic logic [63:0] ru_e4_square(input int b, input int k);
-    ru_e4_square = '0;
-    for (int i = 0; i < b; i++) begin
-      if (2 * i < k) ru_e4_square = ru_e4_square + (64'd2 << (2 * i));
-      for (int j = i + 1; j < b; j++) if (i + j + 1 < k) ru_e4_square = ru_e4_square + (64'd1 << (i + j + 1));
-    end
-  endfunction
   function automatic logic [63:0] ru_e4_array(input int na, input int nb, input int k, input int copies);
     ru_e4_array = '0;
     for (int i = 0; i < na; i++)
       for (int j = 0; j < nb; j++) if (i + j < k) ru_e4_array = ru_e4_array + (64'(copies) << (i + j));
   endfunction
-  localparam int KSq  = B - 2;   // squarers: R = B
-  localparam int KMul = B - 4;   // 4 t^4 t: R = B - 2
   localparam int RDot = B + Gb - DotF;  // dot: R = B - 3
   localparam int KDot = RDot - 2;
-  localparam logic [63:0] CorrSq  = ru_corr(B, KSq, ru_e4_square(B, KSq));
-  localparam logic [63:0] CorrMul = ru_corr(B - 2, KMul, ru_e4_array(B, B, KMul, 1));
   localparam logic [63:0] CorrDot = ru_corr(RDot, KDot, ru_e4_array(B, Gb, KDot, 3));
 
-  // Folded squarer of x, partial-product bits of the columns >= k only: x_i at column 2i and
-  // x_i x_j (i < j) at column i + j + 1.
-  function automatic logic [2*B-1:0] ru_square_sum(input logic [B-1:0] x, input int k);
+  // Kernel weight table entry d: round(t^4 (4t - 3) 2^B) with t = 1 - d 2^-B (half up; B <= 12 so
+  // the product fits 63 bits), saturated at 2^B - 1 (d = 0). Entry 2^B - 1 is 0.
+  function automatic logic [WW-1:0] ru_weight(input int unsigned d);
+    logic signed [63:0] t, num, v;
+    t   = 64'(1 << B) - 64'(d);
+    num = t * t * t * t * (4 * t - 3 * 64'(1 << B));
+    v   = (num + (64'sd1 <<< (4 * B - 1))) >>> (4 * B);
+    if (v > 64'((1 << B) - 1)) v = 64'((1 << B) - 1);
+    ru_weight = WW'(v);
+  endfunction
+
+  // Folded squarer of x (exact): x_i at column 2i and x_i x_j (i < j) at column i + j + 1.
+  function automatic logic [2*B-1:0] ru_square(input logic [B-1:0] x);
     logic [2*B-1:0] row;
-    ru_square_sum = '0;
+    ru_square = '0;
     for (int i = 0; i < B; i++) begin
       row = '0;
-      if (2 * i >= k) row[2*i] = x[i];
-      for (int j = i + 1; j < B; j++) if (i + j + 1 >= k) row[i+j+1] = x[i] & x[j];
-      ru_square_sum = ru_square_sum + row;
+      row[2*i] = x[i];
+      for (int j = i + 1; j < B; j++) row[i+j+1] = x[i] & x[j];
+      ru_square = ru_square + row;
     end
   endfunction
   // Unsigned B x B array a * b, partial-product bits of the columns >= k only (one row per b_j).
@@ -110,17 +109,21 @@ module ru_noise_trunc #(
   endfunction
 
   // Pipelining (ru_pipe_pkg, the mechanism of every unit): seven levels, output register first.
-  //   1 split + hash lookup + squarer + sq1       2 xor + gradient lookup + distance, t
-  //   3 t^2 + dot products                        4 t^4
-  //   5 4 t^4 t + kernel weight                   6 w * dot, summed in pairs
+  //   1 split + hash lookup + squarer + sq1       2 xor + gradient lookup + distance, table index
+  //   3 weight table + dot product terms          4 dot product sum
+  //   5 w * dot                                   6 summed in pairs
   //   7 total, scaling, saturation (output)
-  // Level weights: each level's logic delay in units of 100 ps, measured at the default widths:
-  // OpenSTA's stage periods of Stages 7 (every level registered; `rayunits synth noise_trunc
-  // --stages 7 --flow osu018 --clock 200ps --stage-periods`: 3583 3402 4583 3057 4399 4467 3806 ps)
-  // minus 0.8 ns of clock-to-Q and setup (docs/NOISE.md).
+  // Level weights (units of 100 ps): the levels' logic delays in osu018 at the default widths, from
+  // OpenSTA's stage periods minus 0.8 ns of clock-to-Q and setup (`rayunits synth noise_trunc
+  // --stages S --flow osu018 --clock 200ps --stage-periods`). Alone (Stages 7): levels 1-7 take
+  // 26, 22, 35, 16, 30, 23, 25. Merged, some pairs take less than the sum (their critical paths
+  // are different paths: 1+2 37, 3+4 45, 6+7 40) and 4+5 the sum (47); the weights below are the
+  // marginal delays that reproduce the merged pairs the placement chooses between (level 2 = 37 -
+  // 26, level 4 = 45 - 35, level 5 = 47 - 10, level 7 = 40 - 23), so that every Stages gets the
+  // partition with the shortest measured cycle (docs/NOISE.md, "The truncated datapath").
   localparam int unsigned NLevels = 7;
   localparam logic [ru_pipe_pkg::WW-1:0] LevelDepth = {{(ru_pipe_pkg::WW - 8 * NLevels){1'b0}},
-      8'd30, 8'd37, 8'd36, 8'd23, 8'd38, 8'd26, 8'd28};  // level 7 .. level 1
+      8'd17, 8'd23, 8'd37, 8'd10, 8'd35, 8'd11, 8'd26};  // level 7 .. level 1
   localparam logic [ru_pipe_pkg::MaxSeg:0] PipeCuts =
       ru_pipe_pkg::cut_mask_reg_out(LevelDepth, NLevels, Stages);
   localparam logic [NLevels-1:0] Cuts = PipeCuts[NLevels-1:0];
@@ -129,8 +132,8 @@ module ru_noise_trunc #(
   if (OutRegs != ru_pipe_pkg::extra_regs(Stages, MaxUsefulStages)) begin : gen_out_check
     $error("ru_noise_trunc: internal error: %0d output registers at Stages %0d", OutRegs, Stages);
   end
-  if (FracBits < 5 || FracBits > 16) begin : gen_frac_check
-    $error("ru_noise_trunc: FracBits must be 5..16, got %0d", FracBits);
+  if (FracBits < 5 || FracBits > 12) begin : gen_frac_check
+    $error("ru_noise_trunc: FracBits must be 5..12 (the kernel weight table has 2^FracBits entries), got %0d", FracBits);
   end
   logic [ru_pipe_pkg::MaxSeg-NLevels:0] unused_pipe_cuts;
   assign unused_pipe_cuts = PipeCuts[ru_pipe_pkg::MaxSeg:NLevels];
@@ -187,7 +190,7 @@ module ru_noise_trunc #(
     end
 
     assign fr      = coord[B-1:0];
-    assign sq_full = ru_square_sum(fr, 0);
+    assign sq_full = ru_square(fr);
     assign sq0     = sq_full[2*B-1:B];
     assign a_fr[a*B+:B]     = fr;
     assign a_hash[a*12+:12] = hash;
@@ -203,7 +206,7 @@ module ru_noise_trunc #(
     .clk_i, .rst_ni, .valid_i(in_valid_i), .data_i(l1_d), .valid_o(l1_valid_q), .data_o(l1_q));
 
   // ------------------------------------------------------------------------------------------
-  // Level 2: (4) d and t = min(1 - 2^-B, max(0, 1 - d)) in B bits; (9) xor hash, gradients.
+  // Level 2: (4) d and the table index min(d, 2^B - 1); (9) xor hash, gradients.
   localparam int unsigned L2W = 3 * B + 8 * 3 * GradW + 8 * B;
   logic [L2W-1:0] l2_d, l2_q;
   logic           l2_valid_q;
@@ -212,7 +215,7 @@ module ru_noise_trunc #(
   logic [3*B-1:0]       b_sq0;
   logic [3*QW-1:0]      b_sq1;
   logic [8*3*GradW-1:0] b_g;
-  logic [8*B-1:0]       b_t;
+  logic [8*B-1:0]       b_idx;
 
   assign {b_sq1, b_sq0, b_hash, b_fr} = l1_q;
 
@@ -227,134 +230,116 @@ module ru_noise_trunc #(
     assign sz = (Cz != 0) ? b_sq1[2*QW+:QW] : {1'b0, b_sq0[2*B+:B]};
     assign b_g[c*3*GradW+:3*GradW] = ru_noise_grad(h);
     assign d = DW'(sx) + DW'(sy) + DW'(sz);
-    assign b_t[c*B+:B] = (d >= DW'(1 << B)) ? '0 : (d == '0) ? {B{1'b1}} : B'(DW'(1 << B) - d);
+    assign b_idx[c*B+:B] = (d[DW-1:B] != '0) ? {B{1'b1}} : d[B-1:0];
   end
 
-  assign l2_d = {b_t, b_g, b_fr};
+  assign l2_d = {b_idx, b_g, b_fr};
 
   ru_pipe #(.Width(L2W), .Depth(Cuts[1] ? 1 : 0)) u_cut2 (
     .clk_i, .rst_ni, .valid_i(l1_valid_q), .data_i(l2_d), .valid_o(l2_valid_q), .data_o(l2_q));
 
   // ------------------------------------------------------------------------------------------
-  // Level 3: (5) t^2 (truncated squarer); (10) dot products (truncated arrays, exact sign rows).
-  localparam int unsigned L3W = 8 * B + 8 * B + 8 * DotW;
+  // Level 3: (5)-(8) kernel weight w = table[index]; (10) the dot product's three terms per corner
+  // (truncated unsigned array f x low(g), minus the sign row f 2^Gb where g < 0, minus the corner
+  // row g 2^B where c = 1; modulo 2^AccW, summed with the correction in level 4).
+  localparam int unsigned L3W = 8 * WW + 8 * 3 * AccW;
   logic [L3W-1:0] l3_d, l3_q;
   logic           l3_valid_q;
   logic [3*B-1:0]       c_fr;
   logic [8*3*GradW-1:0] c_g;
-  logic [8*B-1:0]       c_t, c_t2;
-  logic [8*DotW-1:0]    c_dot;
+  logic [8*B-1:0]       c_idx;
+  logic [8*WW-1:0]      c_w;
+  logic [8*3*AccW-1:0]  c_term;
 
-  assign {c_t, c_g, c_fr} = l2_q;
+  assign {c_idx, c_g, c_fr} = l2_q;
+
+  // The table (a constant-initialized ROM: Yosys maps it to logic, one read port per corner).
+  logic [WW-1:0] weight_rom [1 << B];
+  initial begin
+    for (int unsigned i = 0; i < (1 << B); i++) weight_rom[i] = ru_weight(i);
+  end
 
   for (genvar c = 0; c < 8; c++) begin : g_corner_c
     localparam logic [2:0] Cb = 3'(c);  // corner bits {cz, cy, cx}
-    logic [2*B-1:0]  t2s;
-    logic [AccW-1:0] acc;
-    assign t2s = ru_square_sum(c_t[c*B+:B], KSq) + (2*B)'(CorrSq);
-    assign c_t2[c*B+:B] = t2s[2*B-1:B];
-    logic unused_t2;
-    assign unused_t2 = ^t2s[B-1:0];
-    // One multi-operand sum (a single carry-save tree in synthesis): the three truncated arrays,
-    // the sign rows (f_a << Gb where g_a < 0) and the corner rows (g_a << B where c_a = 1).
-    logic [3*AccW-1:0] m, sr, kr;
+    assign c_w[c*WW+:WW] = weight_rom[c_idx[c*B+:B]];
     for (genvar a = 0; a < 3; a++) begin : g_term
       logic [GradW-1:0] g;
       logic [B-1:0]     f;
-      assign g = c_g[(3*c+a)*GradW+:GradW];
-      assign f = c_fr[a*B+:B];
-      assign m[a*AccW+:AccW]  = AccW'(ru_mul_sum(f, B'(g[Gb-1:0]), KDot));
-      assign sr[a*AccW+:AccW] = {AccW{g[Gb]}} & (AccW'(f) << Gb);
+      logic [AccW-1:0]  m, sr, kr;
+      assign g  = c_g[(3*c+a)*GradW+:GradW];
+      assign f  = c_fr[a*B+:B];
+      assign m  = AccW'(ru_mul_sum(f, B'(g[Gb-1:0]), KDot));
+      assign sr = {AccW{g[Gb]}} & (AccW'(f) << Gb);
       if (Cb[a]) begin : g_corner_row
-        assign kr[a*AccW+:AccW] = AccW'({{(AccW-GradW){g[Gb]}}, g}) << B;
+        assign kr = AccW'({{(AccW-GradW){g[Gb]}}, g}) << B;
       end else begin : g_no_corner_row
-        assign kr[a*AccW+:AccW] = '0;
+        assign kr = '0;
       end
+      assign c_term[(3*c+a)*AccW+:AccW] = m - sr - kr;
     end
-    assign acc = AccW'(CorrDot) + m[0*AccW+:AccW] + m[1*AccW+:AccW] + m[2*AccW+:AccW]
-               - sr[0*AccW+:AccW] - sr[1*AccW+:AccW] - sr[2*AccW+:AccW]
-               - kr[0*AccW+:AccW] - kr[1*AccW+:AccW] - kr[2*AccW+:AccW];
-    assign c_dot[c*DotW+:DotW] = acc[RDot+:DotW];
-    logic unused_acc;
-    assign unused_acc = (^acc[RDot-1:0]) ^ (^acc[AccW-1:RDot+DotW]);
   end
 
-  assign l3_d = {c_dot, c_t2, c_t};
+  assign l3_d = {c_term, c_w};
 
   ru_pipe #(.Width(L3W), .Depth(Cuts[2] ? 1 : 0)) u_cut3 (
     .clk_i, .rst_ni, .valid_i(l2_valid_q), .data_i(l3_d), .valid_o(l3_valid_q), .data_o(l3_q));
 
   // ------------------------------------------------------------------------------------------
-  // Level 4: (6) t^4 (truncated squarer of t^2).
-  localparam int unsigned L4W = L3W;
+  // Level 4: (10) dot = floor((correction + the three terms) / 2^R), B fraction bits.
+  localparam int unsigned L4W = 8 * WW + 8 * DotW;
   logic [L4W-1:0] l4_d, l4_q;
   logic           l4_valid_q;
-  logic [8*B-1:0]    d_t, d_t2, d_t4;
-  logic [8*DotW-1:0] d_dot;
+  logic [8*WW-1:0]     d_w;
+  logic [8*3*AccW-1:0] d_term;
+  logic [8*DotW-1:0]   d_dot;
 
-  assign {d_dot, d_t2, d_t} = l3_q;
+  assign {d_term, d_w} = l3_q;
 
   for (genvar c = 0; c < 8; c++) begin : g_corner_d
-    logic [2*B-1:0] t4s;
-    assign t4s = ru_square_sum(d_t2[c*B+:B], KSq) + (2*B)'(CorrSq);
-    assign d_t4[c*B+:B] = t4s[2*B-1:B];
-    logic unused_t4;
-    assign unused_t4 = ^t4s[B-1:0];
+    logic [AccW-1:0] acc;
+    assign acc = AccW'(CorrDot) + d_term[(3*c+0)*AccW+:AccW] + d_term[(3*c+1)*AccW+:AccW]
+               + d_term[(3*c+2)*AccW+:AccW];
+    assign d_dot[c*DotW+:DotW] = acc[RDot+:DotW];
+    logic unused_acc;
+    assign unused_acc = (^acc[RDot-1:0]) ^ (^acc[AccW-1:RDot+DotW]);
   end
 
-  assign l4_d = {d_dot, d_t4, d_t};
+  assign l4_d = {d_dot, d_w};
 
   ru_pipe #(.Width(L4W), .Depth(Cuts[3] ? 1 : 0)) u_cut4 (
     .clk_i, .rst_ni, .valid_i(l3_valid_q), .data_i(l4_d), .valid_o(l4_valid_q), .data_o(l4_q));
 
   // ------------------------------------------------------------------------------------------
-  // Level 5: (7) 4 t^4 t (truncated multiplier, B + 2 fraction bits kept); (8) w = 4 t^4 t - 3 t^4.
-  localparam int unsigned L5W = 8 * WW + 8 * DotW;
-  logic [L5W-1:0] l5_d, l5_q;
-  logic           l5_valid_q;
-  logic [8*B-1:0]    e_t, e_t4;
+  // Level 5: (11) the contributions w * dot (exact; |w * dot| < 2^(WW+DotW-2)).
+  localparam int unsigned L5W = 8 * PairW;
+  logic [L5W-1:0]    l5_d, l5_q;
+  logic              l5_valid_q;
   logic [8*DotW-1:0] e_dot;
   logic [8*WW-1:0]   e_w;
 
-  assign {e_dot, e_t4, e_t} = l4_q;
+  assign {e_dot, e_w} = l4_q;
 
-  for (genvar c = 0; c < 8; c++) begin : g_corner_e
-    logic [2*B-1:0] ps;
-    logic [PW-1:0]  p;
-    logic [PW:0]    wf;  // 4 t^4 t - 3 t^4 modulo 2^(B+3); the value fits WW signed bits
-    assign ps = ru_mul_sum(e_t4[c*B+:B], e_t[c*B+:B], KMul) + (2*B)'(CorrMul);
-    assign p  = ps[B-2+:PW];
-    assign wf = {1'b0, p} - ({2'b00, e_t4[c*B+:B], 1'b0} + {3'b000, e_t4[c*B+:B]});
-    assign e_w[c*WW+:WW] = wf[WW-1:0];
-    logic unused_w;
-    assign unused_w = (^ps[B-3:0]) ^ (^wf[PW:WW]);
+  for (genvar c = 0; c < 8; c++) begin : g_contrib
+    logic signed [WW-1:0]    w;
+    logic signed [DotW-1:0]  dt;
+    logic signed [PairW-1:0] p;
+    assign w  = e_w[c*WW+:WW];
+    assign dt = e_dot[c*DotW+:DotW];
+    assign p  = PairW'(w) * PairW'(dt);
+    assign l5_d[c*PairW+:PairW] = p;
   end
-
-  assign l5_d = {e_dot, e_w};
 
   ru_pipe #(.Width(L5W), .Depth(Cuts[4] ? 1 : 0)) u_cut5 (
     .clk_i, .rst_ni, .valid_i(l4_valid_q), .data_i(l5_d), .valid_o(l5_valid_q), .data_o(l5_q));
 
   // ------------------------------------------------------------------------------------------
-  // Level 6: (11) contributions w * dot (exact), summed in pairs (|w * dot| < 2^(WW+DotW-2)).
+  // Level 6: (12) the contributions summed in pairs.
   localparam int unsigned L6W = 4 * PairW;
-  logic [L6W-1:0]    l6_d, l6_q;
-  logic              l6_valid_q;
-  logic [8*DotW-1:0] f_dot;
-  logic [8*WW-1:0]   f_w;
-
-  assign {f_dot, f_w} = l5_q;
+  logic [L6W-1:0] l6_d, l6_q;
+  logic           l6_valid_q;
 
   for (genvar k = 0; k < 4; k++) begin : g_pair
-    logic signed [WW-1:0]   w0, w1;
-    logic signed [DotW-1:0] d0, d1;
-    logic signed [PairW-1:0] s;
-    assign w0 = f_w[(2*k)*WW+:WW];
-    assign w1 = f_w[(2*k+1)*WW+:WW];
-    assign d0 = f_dot[(2*k)*DotW+:DotW];
-    assign d1 = f_dot[(2*k+1)*DotW+:DotW];
-    assign s  = PairW'(w0) * PairW'(d0) + PairW'(w1) * PairW'(d1);
-    assign l6_d[k*PairW+:PairW] = s;
+    assign l6_d[k*PairW+:PairW] = l5_q[(2*k)*PairW+:PairW] + l5_q[(2*k+1)*PairW+:PairW];
   end
 
   ru_pipe #(.Width(L6W), .Depth(Cuts[5] ? 1 : 0)) u_cut6 (

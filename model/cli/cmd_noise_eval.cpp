@@ -87,15 +87,19 @@ int run_noise_eval(int argc, char** argv) {
     for (int a = 0; a < 3; ++a)
       std::printf("  axis %c: cell %3d frac %5d hash {%2d,%2d} sq {%d,%d}\n", "xyz"[a], t.cell[a], t.frac[a],
                   t.hash[a][0], t.hash[a][1], t.sq[a][0], t.sq[a][1]);
-    for (int c = 0; c < 8; ++c)
-      std::printf("  corner %d%d%d: d %d t %d t2 %d t4 %d %s %d w %d | h %2d g (%d %d %d) dot %lld | w*dot %lld\n",
-                  c & 1, (c >> 1) & 1, c >> 2, t.d[c], t.t[c], t.t2[c], t.t4[c], tr ? "4t4t" : "t5", t.t5[c], t.w[c],
-                  t.h[c], t.g[c][0], t.g[c][1], t.g[c][2], static_cast<long long>(t.dot[c]),
-                  static_cast<long long>(t.contrib[c]));
+    for (int c = 0; c < 8; ++c) {
+      std::printf("  corner %d%d%d: d %d ", c & 1, (c >> 1) & 1, c >> 2, t.d[c]);
+      if (tr)
+        std::printf("table[%d] w %d", t.t[c], t.w[c]);
+      else
+        std::printf("t %d t2 %d t4 %d t5 %d w %d", t.t[c], t.t2[c], t.t4[c], t.t5[c], t.w[c]);
+      std::printf(" | h %2d g (%d %d %d) dot %lld | w*dot %lld\n", t.h[c], t.g[c][0], t.g[c][1], t.g[c][2],
+                  static_cast<long long>(t.dot[c]), static_cast<long long>(t.contrib[c]));
+    }
     std::printf("  sum %lld (%d fraction bits)\n", static_cast<long long>(t.sum), b + f.dot_frac_bits());
   };
   show(fx);
-  if (b >= 5) {
+  if (b >= 5 && b <= 12) {  // the truncated datapath's range (its weight table)
     FixedConfig tc = fx.config();
     tc.datapath = NoiseDatapath::kTrunc;
     show(FixedNoise(tc));

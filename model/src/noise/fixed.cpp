@@ -12,9 +12,9 @@ namespace ru::noise {
 void FixedConfig::validate() const {
   if (frac_bits < 4 || frac_bits > 16)
     throw std::invalid_argument("noise: fraction bits must be 4..16, got " + std::to_string(frac_bits));
-  if (datapath == NoiseDatapath::kTrunc && frac_bits < 5)
-    throw std::invalid_argument("noise: the truncated datapath needs 5..16 fraction bits, got " +
-                                std::to_string(frac_bits));
+  if (datapath == NoiseDatapath::kTrunc && (frac_bits < 5 || frac_bits > 12))
+    throw std::invalid_argument("noise: the truncated datapath needs 5..12 fraction bits (its kernel weight is a "
+                                "2^B-entry table), got " + std::to_string(frac_bits));
   if (int_bits < 1 || int_bits > 24)
     throw std::invalid_argument("noise: input integer bits must be 1..24, got " + std::to_string(int_bits));
   if (out_w < 2 || out_w > 2 * frac_bits + 6)
@@ -51,6 +51,11 @@ std::int64_t correction(int r, int k, std::int64_t e4) {
   return c;
 }
 
+[[noreturn]] void range_fail_table(const FixedConfig& c) {
+  std::fprintf(stderr, "noise fixed model: the kernel weight table's last entry is not 0 (%s)\n", c.describe().c_str());
+  std::abort();
+}
+
 }  // namespace
 
 FixedNoise::FixedNoise(FixedConfig c, const TableSet& t) : c_(c) {
@@ -64,23 +69,27 @@ FixedNoise::FixedNoise(FixedConfig c, const TableSet& t) : c_(c) {
                             : narrow_gradient(t.grad64_q16[i][a], c_.frac_bits);
   if (trunc()) {
     const int B = c_.frac_bits, gb = grad_frac_bits();
-    std::int64_t e_sq = 0, e_mul = 0, e_dot = 0, dmax_dot = 0;
+    // (5)-(8) the kernel weight table: w(d) = round(t^4 (4t - 3) 2^B), t = 1 - d 2^-B exactly, for
+    // d = 0 .. 2^B - 1 (round half up; B <= 12, so t^4 (4t - 3 2^B) fits 63 bits), saturated at
+    // 2^B - 1 (d = 0: w = 1 does not fit B + 1 signed bits). The last entry (t = 2^-B) is 0, so a
+    // distance d >= 2^B reads it (the RTL clamps the index to 2^B - 1).
+    wtab_.resize(std::size_t{1} << B);
+    for (std::int64_t d = 0; d < (std::int64_t{1} << B); ++d) {
+      const std::int64_t t = (std::int64_t{1} << B) - d;
+      const std::int64_t num = t * t * t * t * (4 * t - 3 * (std::int64_t{1} << B));
+      const std::int64_t v = (num + (std::int64_t{1} << (4 * B - 1))) >> (4 * B);
+      wtab_[static_cast<std::size_t>(d)] = std::min(v, (std::int64_t{1} << B) - 1);
+    }
+    if (wtab_.back() != 0) range_fail_table(c_);
+    std::int64_t e_dot = 0, dmax_dot = 0;
     const int r_dot = B + gb - dot_frac_bits();
-    const int k_sq = B - 2, k_mul = B - 4, k_dot = r_dot - 2;
-    for (int i = 0; i < B; ++i) {
-      if (2 * i < k_sq) e_sq += 2 * (std::int64_t{1} << (2 * i));
-      for (int j = i + 1; j < B; ++j)
-        if (i + j + 1 < k_sq) e_sq += std::int64_t{1} << (i + j + 1);
-      for (int j = 0; j < B; ++j)
-        if (i + j < k_mul) e_mul += std::int64_t{1} << (i + j);
+    const int k_dot = r_dot - 2;
+    for (int i = 0; i < B; ++i)
       for (int j = 0; j < gb; ++j)
         if (i + j < k_dot) {
           e_dot += 3 * (std::int64_t{1} << (i + j));
           dmax_dot += 3 * (std::int64_t{1} << (i + j));
         }
-    }
-    corr_sq_ = correction(B, k_sq, e_sq);
-    corr_mul_ = correction(B - 2, k_mul, e_mul);
     corr_dot_ = correction(r_dot, k_dot, e_dot);
     dot_slack_ = std::max(corr_dot_, dmax_dot + (std::int64_t{1} << r_dot) - 1 - corr_dot_);
   }
@@ -213,26 +222,8 @@ std::int64_t FixedNoise::finish(std::int64_t sum, int sum_frac_bits, FixedTrace*
 
 // ---- the truncated datapath (kTrunc, rtl/ru_noise_trunc.sv; docs/NOISE.md) --------------------
 
-std::int64_t FixedNoise::trunc_square(std::int64_t x) const {
-  // Folded squarer: x_i (column 2i) and x_i x_j for i < j (column i + j + 1); columns >= K kept.
-  const int B = c_.frac_bits, k = B - 2;
-  std::int64_t s = 0;
-  for (int i = 0; i < B; ++i) {
-    const std::int64_t xi = (x >> i) & 1;
-    if (2 * i >= k) s += xi << (2 * i);
-    for (int j = i + 1; j < B; ++j)
-      if (i + j + 1 >= k) s += (xi & ((x >> j) & 1)) << (i + j + 1);
-  }
-  return (s + corr_sq_) >> B;
-}
-
-std::int64_t FixedNoise::trunc_t5x4(std::int64_t t4, std::int64_t t) const {
-  const int B = c_.frac_bits, k = B - 4;
-  std::int64_t s = 0;
-  for (int i = 0; i < B; ++i)
-    for (int j = 0; j < B; ++j)
-      if (i + j >= k) s += (((t4 >> i) & 1) & ((t >> j) & 1)) << (i + j);
-  return (s + corr_mul_) >> (B - 2);
+std::int64_t FixedNoise::trunc_weight(std::int64_t d) const {
+  return wtab_[static_cast<std::size_t>(std::min<std::int64_t>(d, static_cast<std::int64_t>(wtab_.size()) - 1))];
 }
 
 std::int64_t FixedNoise::trunc_dot(const int frac[3], const std::array<int, 3>& g, int corner) const {
@@ -259,14 +250,9 @@ std::int64_t FixedNoise::eval_trunc(const std::int64_t in[3], FixedTrace* tr) co
   std::int64_t sum = 0;
   for (int c = 0; c < 8; ++c) {
     const int cb[3] = {c & 1, (c >> 1) & 1, c >> 2};
-    // (4) d exact; t = 1 - d in B bits: 0 outside the support, 1 - 2^-B at d = 0.
+    // (4) d exact; (5)-(8) the kernel weight from the table (index min(d, 2^B - 1)).
     const std::int64_t d = x.sq[0][cb[0]] + x.sq[1][cb[1]] + x.sq[2][cb[2]];
-    const std::int64_t t = d >= one ? 0 : std::min(one - d, one - 1);
-    // (5)-(8) t^2, t^4 by truncated squarers; w = t^4 (4t - 3) = 4 t^4 t - 3 t^4 with the product
-    // 4 t^4 t from a truncated multiplier (B fraction bits: the multiplier keeps B + 2).
-    const std::int64_t t2 = trunc_square(t), t4 = trunc_square(t2), p = trunc_t5x4(t4, t);
-    if (t2 >= one || t4 >= one) range_fail("t2/t4", std::max(t2, t4), c_);
-    const std::int64_t w = p - 3 * t4;
+    const std::int64_t idx = std::min(d, one - 1), w = trunc_weight(d);
     if (!fits_signed(w, w_bits())) range_fail("w", w, c_);
     // (9) gradient (B - 3 fraction bits); (10) dot product with B fraction bits.
     const int h = x.hsh[0][cb[0]] ^ x.hsh[1][cb[1]] ^ x.hsh[2][cb[2]];
@@ -276,7 +262,7 @@ std::int64_t FixedNoise::eval_trunc(const std::int64_t in[3], FixedTrace* tr) co
     // (11)-(12) w * dot, summed exactly (2B fraction bits).
     const std::int64_t contrib = w * dt;
     sum += contrib;
-    trace_corner(tr, c, {d, t, t2, t4, p, w, h, &g, dt, contrib});
+    trace_corner(tr, c, {d, idx, 0, 0, 0, w, h, &g, dt, contrib});
   }
   return finish(sum, B + dot_frac_bits(), tr);
 }

@@ -138,8 +138,7 @@ double bound_fixed(const FixedNoise& f) {
   std::vector<std::int64_t> wabs(3 * one + 1);
   for (std::int64_t d = 0; d <= 3 * one; ++d) {
     if (trunc) {
-      const std::int64_t t = d >= one ? 0 : std::min(one - d, one - 1), t4 = f.trunc_square(f.trunc_square(t));
-      wabs[d] = std::llabs(f.trunc_t5x4(t4, t) - 3 * t4);
+      wabs[d] = std::llabs(f.trunc_weight(d));
     } else {
       std::int64_t t = d < one ? one - d : 0, t2 = (t * t) >> B, t4 = (t2 * t2) >> B, t5 = (t4 * t) >> B;
       wabs[d] = std::llabs(4 * t5 - 3 * t4);

@@ -12,6 +12,7 @@
 #include <array>
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "rayunits/noise/tables.hpp"
 
@@ -19,13 +20,14 @@ namespace ru::noise {
 
 // Which datapath (docs/NOISE.md): kFull is rtl/ru_noise.sv (every product exact, then floored:
 // Kensler's datapath, the baseline every figure is compared with); kTrunc is rtl/ru_noise_trunc.sv
-// (the smaller unit of issue 15: one squarer per axis, t in B bits, truncated squarers and
-// multipliers with constant correction, gradients with B-3 fraction bits, w = t^4 (4t - 3) in one
-// product, the eight contributions summed exactly).
+// (the smaller unit of issue 15: one squarer per axis, the kernel weight w = t^4 (4t - 3) from a
+// 2^B-entry table of the correctly rounded value (so B <= 12), gradients with B-3 fraction bits,
+// dot products from truncated arrays with a constant correction, the eight contributions summed
+// exactly).
 enum class NoiseDatapath { kFull, kTrunc };
 
 struct FixedConfig {
-  int frac_bits = 8;  // B: fraction bits of the inputs and of every internal quantity, 4..16
+  int frac_bits = 8;  // B: fraction bits of the inputs and of every internal quantity, 4..16 (kTrunc 5..12)
   int int_bits = 8;   // integer bits of each input incl. sign, 1..24 (cells wrap modulo 256)
   int out_w = 10;     // width of the output word, 2..2*frac_bits+6
   NoiseDatapath datapath = NoiseDatapath::kFull;
@@ -49,8 +51,8 @@ struct FixedTrace {
   int frac[3];                 // B-bit fraction per axis
   int hash[3][2];              // 6-bit hash of cell and cell + 1 per axis
   int sq[3][2];                // truncated squares per axis and corner bit
-  int d[8], t[8], t2[8], t4[8], t5[8], w[8];  // per corner c = cx + 2 cy + 4 cz (kTrunc: t5 = the
-                                              // product t^4 t with B+2 fraction bits)
+  int d[8], t[8], t2[8], t4[8], t5[8], w[8];  // per corner c = cx + 2 cy + 4 cz (kTrunc: t = the
+                                              // weight table's index min(d, 2^B - 1), t2 t4 t5 = 0)
   int h[8];                    // gradient index per corner
   std::array<int, 3> g[8];     // gradient (B fraction bits) per corner
   std::int64_t dot[8];         // floor(offset . g / 2^B)
@@ -89,18 +91,17 @@ class FixedNoise {
   int grad_frac_bits() const { return trunc() ? c_.frac_bits - 3 : c_.frac_bits; }
   int dot_frac_bits() const { return c_.frac_bits; }
 
-  // The truncated datapath's arithmetic (kTrunc), public for the tests and docs/NOISE.md: every
-  // truncated array keeps the partial-product bits of the columns >= R - 2 (two guard columns
-  // below the result's last bit), adds the constant correction C and shifts right by R.
-  //   trunc_square(x)       x an unsigned B-bit value: (x^2 folded squarer, R = B)
-  //   trunc_t5x4(t4, t)     4 t^4 t with B fraction bits: (t4 * t, R = B - 2)
-  //   dot(f, g, corner)     sum of (f_i - c_i) g_i with B fraction bits (R = B + Gb - B = B - 3)
-  std::int64_t trunc_square(std::int64_t x) const;
-  std::int64_t trunc_t5x4(std::int64_t t4, std::int64_t t) const;
+  // The truncated datapath's arithmetic (kTrunc), public for the tests and docs/NOISE.md:
+  //   trunc_weight(d)       the kernel weight w = t^4 (4t - 3), t = 1 - d 2^-B, for the squared
+  //                         distance d (B fraction bits, any d >= 0): a 2^B-entry table of the
+  //                         exact value rounded to nearest (B + 1 bits signed), saturated at
+  //                         1 - 2^-B (d = 0); 0 from d = 2^B - 1 on
+  //   trunc_dot(f, g, corner) sum of (f_i - c_i) g_i with B fraction bits: truncated arrays that
+  //                         keep the partial-product bits of the columns >= R - 2 (two guard
+  //                         columns), add the constant correction and shift right by R = B - 3
+  std::int64_t trunc_weight(std::int64_t d) const;
   std::int64_t trunc_dot(const int frac[3], const std::array<int, 3>& g, int corner) const;
-  // Correction constants (the RTL computes the same by the same formula: scoreboard).
-  std::int64_t corr_square() const { return corr_sq_; }
-  std::int64_t corr_t5x4() const { return corr_mul_; }
+  // Correction constant of the dot product (the RTL computes the same by the same formula).
   std::int64_t corr_dot() const { return corr_dot_; }
   // |trunc_dot - exact| * 2^R <= this (R = B - 3; in units of the exact sum): the correction or
   // the dropped bits' largest value minus it, plus the final floor (the range bound uses it).
@@ -126,7 +127,8 @@ class FixedNoise {
   FixedConfig c_;
   int hash_[3][256];
   std::array<int, 3> grad_[64];
-  std::int64_t corr_sq_ = 0, corr_mul_ = 0, corr_dot_ = 0, dot_slack_ = 0;
+  std::int64_t corr_dot_ = 0, dot_slack_ = 0;
+  std::vector<std::int64_t> wtab_;  // kTrunc: the kernel weight table (trunc_weight)
 };
 
 // The kTrunc gradient narrowing: round(q16 / 2^(16 - Gb)) as narrow_gradient, then clamped to
