@@ -94,6 +94,14 @@ TEST(Scene, ScaledVariants) {
     EXPECT_EQ(b.epsilon(), 1e-3 * f);
   }
   EXPECT_EQ(make_scene("sphere@1e+6").unit, 1e6);
+  // The smoke's box scales with the scene, its extinction per unit length inversely.
+  const Scene s = make_scene("smoke"), s2 = make_scene("smoke@2");
+  ASSERT_TRUE(s.volume && s2.volume);
+  EXPECT_EQ(s2.volume->lo, s.volume->lo * 2.0);
+  EXPECT_EQ(s2.volume->hi, s.volume->hi * 2.0);
+  EXPECT_EQ(s2.volume->density, s.volume->density / 2.0);
+  EXPECT_TRUE(s.has_procedural_materials());
+  EXPECT_FALSE(make_scene("noisy").volume);
 }
 
 TEST(Scene, BadNamesGiveOneLineErrors) {

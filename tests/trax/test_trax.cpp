@@ -182,8 +182,8 @@ TEST(TraxTiming, BankConflictThenPendingHit) {
 namespace {
 ru::scene::Scene scene16() { return ru::scene::make_scene("default"); }
 
-void expect_same_image(const Config& c, int w, int h, bool check_counts) {
-  const ru::scene::Scene s = scene16();
+void expect_same_image(const Config& c, int w, int h, bool check_counts, const char* scene = "default") {
+  const ru::scene::Scene s = ru::scene::make_scene(scene);
   const TraxResult r = run_trax(s, c, w, h);
   ru::render::RenderOptions o = render_options(c, w, h);
   if (c.format == "float") o.format = "float";  // native float: must equal the emulated e8m23
@@ -235,6 +235,21 @@ TEST(TraxImage, TextureUnitEqualsRenderer) {
   EXPECT_EQ(r.sim.unit_ops[static_cast<int>(Unit::Noise)], 0u);  // no NOISE instruction left
   c.noise = "float";  // the unit is fixed point: refused with one line
   EXPECT_THROW(c.validate("test"), ConfigError);
+}
+
+// The smoke volume (Fig. 4.1): marched by the same kernel, with the noise unit and with the
+// texture unit (one fbm TEXTURE per step); hundreds of noise evaluations per pixel, and the
+// volume changes the image (it is not skipped).
+TEST(TraxImage, SmokeVolumeEqualsRenderer) {
+  Config c = default_config();
+  c.format = "e7m16";
+  expect_same_image(c, 8, 8, true, "smoke");
+  const TraxResult r = run_trax(ru::scene::make_scene("smoke"), c, 8, 8);
+  EXPECT_GT(r.noise_evals, 64u * 300u);
+  const TraxResult plain = run_trax(ru::scene::make_scene("noisy"), c, 8, 8);
+  EXPECT_NE(std::memcmp(r.image.rgb.data(), plain.image.rgb.data(), r.image.rgb.size() * sizeof(r.image.rgb[0])), 0);
+  c.texture = "unit";
+  expect_same_image(c, 8, 8, true, "smoke");
 }
 
 // Hand schedule of the texture unit's occupancy (one TP, 4 independent requests of 8 octaves on

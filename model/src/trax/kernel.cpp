@@ -391,6 +391,13 @@ Prepared<TVal> tag(const Prepared<Soft>& S, const Layout& L) {
   P.u = vec(S.u, L.cam_base + 6 * L.W);
   P.v = vec(S.v, L.cam_base + 9 * L.W);
   P.light = vec(S.light, L.cam_base + 12 * L.W);
+  if (S.has_volume) {  // the volume (Fig. 4.1's smoke) after the camera: 12 words
+    const uint64_t a = L.cam_base + 15 * L.W;
+    P.has_volume = true;
+    P.vol = {vec(S.vol.lo, a), vec(S.vol.hi, a + 3 * L.W), vec(S.vol.color, a + 6 * L.W), val(S.vol.freq, a + 9 * L.W),
+             val(S.vol.density, a + 10 * L.W), val(S.vol.bias, a + 11 * L.W), val(S.vol.inv_steps, 0), S.vol.steps,
+             S.vol.octaves};
+  }
   // Scalar constants are immediates.
   for (auto [dst, src] : {std::pair{&P.eps, &S.eps}, {&P.shadow_min, &S.shadow_min}, {&P.shadow_max, &S.shadow_max},
                           {&P.ka, &S.ka}, {&P.kd, &S.kd}, {&P.zero, &S.zero}, {&P.one, &S.one}, {&P.half, &S.half},
@@ -639,7 +646,7 @@ TraxResult run_trax(const scene::Scene& s, const Config& c_in, int width, int he
   static const noise::FixedTexture kTexTrunc{render::texture_config(render::NoiseMode::FixedTrunc)},
       kTexFull{render::texture_config(render::NoiseMode::Fixed)};
   C.texture = c.noise == "fixed" ? &kTexFull : &kTexTrunc;
-  C.noise_table_base = align(L.cam_base + 15 * L.W, 4096);
+  C.noise_table_base = align(L.cam_base + 27 * L.W, 4096);  // camera 15 words, volume 12
   C.parent.assign(S.nodes.size(), -1);
   for (size_t i = 0; i < S.nodes.size(); ++i)
     if (S.nodes[i].left >= 0) {

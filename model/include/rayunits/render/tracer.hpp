@@ -110,6 +110,13 @@ struct Prepared {
     int octaves;
   };
   std::vector<Mat> mats;
+  struct Vol {  // scene::Volume in T (has_volume false: none)
+    Vec3<T> lo, hi, color;
+    T freq, density, bias, inv_steps;
+    int steps = 0, octaves = 0;
+  };
+  bool has_volume = false;
+  Vol vol;
   Vec3<T> eye, c, u, v, light;
   T eps, shadow_min, shadow_max, ka, kd, zero, one, half, two;
 };
@@ -484,6 +491,50 @@ class Tracer {
     return vadd(M.c2, vscale(units::vsub(M.c1, M.c2), f));
   }
 
+  // Sum over n octaves of noise(2^o q) / 2^o (signed: the texture unit's fbm).
+  T fbm(const Vec3<T>& q, int n) {
+    T sum = P.zero, amp = P.one, f = P.one;
+    for (int o = 0; o < n; ++o) {
+      sum = sum + noise_at(vscale(q, f)) * amp;
+      f = f * P.two;
+      amp = amp * P.half;
+    }
+    return sum;
+  }
+
+  // The colour `behind` seen through the scene's volume (Fig. 4.1's smoke) along the primary ray
+  // r up to t_hit: the part of the ray inside the box (slab test) in P.vol.steps equal steps,
+  // each sampled at its midpoint: extinction a = min(1, density max(0, fbm + bias) dt), front to
+  // back: colour += transmittance a C, transmittance *= 1 - a; then + transmittance behind.
+  // A fixed number of steps per ray through the box (the noise calls do not depend on the data).
+  Vec3<T> through_volume(const Ray& r, const T& t_hit, const Vec3<T>& behind) {
+    if (!P.has_volume) return behind;
+    const auto& V = P.vol;
+    T t0 = P.zero, t1 = t_hit;
+    for (int a = 0; a < 3; ++a) {
+      const T ta = (V.lo[a] - r.o[a]) * r.inv[a], tb = (V.hi[a] - r.o[a]) * r.inv[a];
+      t0 = fp_max(t0, fp_min(ta, tb));
+      t1 = fp_min(t1, fp_max(ta, tb));
+    }
+    if (!(t0 < t1)) return behind;  // (its noise counts toward the pixel's shading sample)
+    const T dt = (t1 - t0) * V.inv_steps;
+    T tr = P.one, t = t0 + dt * P.half;
+    Vec3<T> acc{P.zero, P.zero, P.zero};
+    for (int i = 0; i < V.steps; ++i) {
+      const Vec3<T> q = vscale(vadd(r.o, vscale(r.d, t)), V.freq);
+      const T f = opt.texture == TextureImpl::Unit ? texture_at(noise::TextureMode::kFbm, V.octaves, q) : fbm(q, V.octaves);
+      const T dens = f + V.bias;
+      if (P.zero < dens) {
+        T a = dens * V.density * dt;
+        if (P.one < a) a = P.one;
+        acc = vadd(acc, vscale(V.color, tr * a));
+        tr = tr * (P.one - a);
+      }
+      t = t + dt;
+    }
+    return vadd(acc, vscale(behind, tr));
+  }
+
   // The shading of a primary hit up to its shadow ray (shade_hit) and after it (shade_finish):
   // shade_pixel() runs both around one shadow-ray query, shade_quad() runs four of each around
   // one packet query. The operations and their order are those of one pixel either way.
@@ -527,13 +578,13 @@ class Tracer {
     T t = fp_cast<T>(HUGE_VAL);
     const int64_t hit = intersect(r, P.eps, t, false);
     Shading sh;
-    if (!shade_hit(r, hit, t, &sh)) return sh.color;
+    if (!shade_hit(r, hit, t, &sh)) return through_volume(r, t, sh.color);
     bool occluded = false;
     if (opt.shadows) {
       T tmax = P.shadow_max;
       occluded = intersect(sh.shadow, P.shadow_min, tmax, true) >= 0;
     }
-    return shade_finish(sh, occluded);
+    return through_volume(r, t, shade_finish(sh, occluded));
   }
 
   // Native types: the colours of up to four pixels (bit j of `lanes`: direction d[j] is
@@ -566,10 +617,14 @@ class Tracer {
           sp.tmax[j] = P.shadow_max;
         }
       }
-    if (!sp.lanes) return;
-    intersect_packet(sp, true);
-    for (int j = 0; j < 4; ++j)
-      if (sp.lanes >> j & 1u) out[j] = shade_finish(sh[j], sp.hit[j] >= 0);
+    if (sp.lanes) {
+      intersect_packet(sp, true);
+      for (int j = 0; j < 4; ++j)
+        if (sp.lanes >> j & 1u) out[j] = shade_finish(sh[j], sp.hit[j] >= 0);
+    }
+    if (P.has_volume)
+      for (int j = 0; j < 4; ++j)
+        if (lanes >> j & 1u) out[j] = through_volume(pk.ray[j], pk.tmax[j], out[j]);
   }
 
   const Prepared<T>& P;
@@ -665,6 +720,12 @@ Prepared<T> prepare(const scene::Scene& s, const RenderOptions& opt, RenderStats
   }
   for (const auto& m : s.materials)
     P.mats.push_back({m.kind, vcast<T>(m.color), vcast<T>(m.color2), fp_cast<T>(m.frequency / s.unit), m.octaves});
+  if (s.volume) {
+    const scene::Volume& v = *s.volume;
+    P.has_volume = true;
+    P.vol = {vcast<T>(v.lo), vcast<T>(v.hi), vcast<T>(v.color), fp_cast<T>(v.frequency / s.unit), fp_cast<T>(v.density),
+             fp_cast<T>(v.bias), fp_cast<T>(1.0 / v.steps), v.steps, v.octaves};
+  }
   // Camera (Mirth's pinhole): per-frame constants computed in double and rounded once into T.
   const auto& cam = s.camera;
   const scene::Vec3 w = scene::normalize(cam.look_at - cam.eye);

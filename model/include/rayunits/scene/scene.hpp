@@ -7,6 +7,7 @@
 // the same picture and only the numbers differ (the point of the 1e-6 / 1e+6 variants).
 #pragma once
 #include <cstdint>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -49,10 +50,24 @@ struct Camera {
   double fov_deg = 40.0;  // vertical field of view
 };
 
+// A participating medium (Kensler's Fig. 4.1 smoke): an axis-aligned box whose density is fBm
+// noise, ray-marched along the primary rays in a fixed number of steps (render/tracer.hpp,
+// Tracer::through_volume). Lengths and frequency in scene units (scaled with the scene).
+struct Volume {
+  Vec3 lo, hi;                  // the box
+  Vec3 color{0.8, 0.8, 0.8};    // the medium's (emitted and scattered) colour
+  double frequency = 1.0;       // noise coordinate = point * frequency / unit
+  double density = 1.0;         // extinction per unit length = density * max(0, fbm + bias)
+  double bias = 0.0;
+  int steps = 64;               // samples per ray through the box
+  int octaves = 8;              // fBm octaves per sample
+};
+
 struct Scene {
   std::string name;
   std::vector<Triangle> tris;
   std::vector<Material> materials;
+  std::optional<Volume> volume;
   Camera camera;
   Vec3 light{0, 0, 10};
   double unit = 1.0;  // length of one "scene unit" (the @ scale factor): epsilon = 1e-3 * unit
