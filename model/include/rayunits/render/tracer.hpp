@@ -445,16 +445,19 @@ class Tracer {
     return res;
   }
 
-  // Sum over n octaves of |noise(2^o q)| / 2^o (the material's octaves, 4 by default).
-  T turbulence(const Vec3<T>& q, int n) {
+  // Sum over n octaves of noise(2^o q) / 2^o: turbulence with |noise| (the materials' octaves, 4
+  // by default), fBm signed (the smoke's density; the texture unit's two modes).
+  T octave_sum(const Vec3<T>& q, int n, bool absolute) {
     T sum = P.zero, amp = P.one, f = P.one;
     for (int o = 0; o < n; ++o) {
-      sum = sum + fp_abs(noise_at(vscale(q, f))) * amp;
+      const T v = noise_at(vscale(q, f));
+      sum = sum + (absolute ? fp_abs(v) : v) * amp;
       f = f * P.two;
       amp = amp * P.half;
     }
     return sum;
   }
+  T turbulence(const Vec3<T>& q, int n) { return octave_sum(q, n, true); }
 
   Vec3<T> material_color(uint32_t m, const Vec3<T>& p) {
     const auto& M = P.mats[m];
@@ -491,17 +494,6 @@ class Tracer {
     return vadd(M.c2, vscale(units::vsub(M.c1, M.c2), f));
   }
 
-  // Sum over n octaves of noise(2^o q) / 2^o (signed: the texture unit's fbm).
-  T fbm(const Vec3<T>& q, int n) {
-    T sum = P.zero, amp = P.one, f = P.one;
-    for (int o = 0; o < n; ++o) {
-      sum = sum + noise_at(vscale(q, f)) * amp;
-      f = f * P.two;
-      amp = amp * P.half;
-    }
-    return sum;
-  }
-
   // The colour `behind` seen through the scene's volume (Fig. 4.1's smoke) along the primary ray
   // r up to t_hit: the part of the ray inside the box (slab test) in P.vol.steps equal steps,
   // each sampled at its midpoint: extinction a = min(1, density max(0, fbm + bias) dt), front to
@@ -522,7 +514,7 @@ class Tracer {
     Vec3<T> acc{P.zero, P.zero, P.zero};
     for (int i = 0; i < V.steps; ++i) {
       const Vec3<T> q = vscale(vadd(r.o, vscale(r.d, t)), V.freq);
-      const T f = opt.texture == TextureImpl::Unit ? texture_at(noise::TextureMode::kFbm, V.octaves, q) : fbm(q, V.octaves);
+      const T f = opt.texture == TextureImpl::Unit ? texture_at(noise::TextureMode::kFbm, V.octaves, q) : octave_sum(q, V.octaves, false);
       const T dens = f + V.bias;
       if (P.zero < dens) {
         T a = dens * V.density * dt;
