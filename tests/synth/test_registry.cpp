@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "rayunits/noise/fixed.hpp"
 #include "rayunits/render/render.hpp"
 #include "rayunits/synth/unit_models.hpp"
 #include "rayunits/synth/units.hpp"
@@ -102,6 +103,25 @@ TEST(Registry, TextureDefaultsAreTheRenderersUnit) {
   UnitConfig planted;
   planted.params["OutF"] = 13;
   EXPECT_FALSE(same(models::texture_config(planted), r));
+}
+
+// The noise units' FracBits range in the registry is the model's (which mirrors the RTL's elaboration
+// check, exercised at both ends by the lint configurations): every value inside is accepted, one
+// past either end is rejected (the truncated datapath's table limits it to 12).
+TEST(Registry, NoiseFracBitsRangeIsTheModels) {
+  for (const char* name : {"noise", "noise_trunc"}) {
+    const UnitSpec& u = find_unit(name);
+    const auto it = std::find_if(u.extra_params.begin(), u.extra_params.end(), [](const ExtraParam& p) { return p.name == "FracBits"; });
+    ASSERT_NE(it, u.extra_params.end()) << name;
+    auto config = [&](long long b) {
+      ru::noise::FixedConfig c{static_cast<int>(b), 8, 10};
+      if (std::string(name) == "noise_trunc") c.datapath = ru::noise::NoiseDatapath::kTrunc;
+      return c;
+    };
+    for (long long b = it->lo; b <= it->hi; ++b) EXPECT_NO_THROW(ru::noise::FixedNoise{config(b)}) << name << " " << b;
+    EXPECT_THROW(ru::noise::FixedNoise{config(it->lo - 1)}, std::invalid_argument) << name;
+    EXPECT_THROW(ru::noise::FixedNoise{config(it->hi + 1)}, std::invalid_argument) << name;
+  }
 }
 
 TEST(Registry, OffByOneRegistryIsCaught) {

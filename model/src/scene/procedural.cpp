@@ -126,6 +126,19 @@ Material procedural(const char* name, MaterialKind k, Vec3 c1, Vec3 c2, double f
   return m;
 }
 
+// The default scene's objects, camera and light with the given materials (and, for `noisy`, a back
+// wall after the floor: the triangles in this order).
+void default_objects(Builder& b, uint32_t floor, uint32_t sphere, uint32_t box, uint32_t torus,
+                     const uint32_t* wall = nullptr) {
+  b.grid({-4, -4, 0}, {8, 0, 0}, {0, 8, 0}, 8, 8, floor);
+  if (wall) b.grid({-4, 3, 0}, {8, 0, 0}, {0, 0, 5}, 8, 5, *wall);
+  b.icosphere({-1.3, 0.2, 1.0}, 1.0, 3, sphere);
+  b.oriented_box({1.4, 0.6, 0.7}, {0.7, 0.7, 0.7}, 0.5, box);
+  b.torus({0.3, -1.6, 0.35}, 0.7, 0.3, 48, 24, torus);
+  b.s.camera = {{0.0, -7.0, 3.2}, {0.0, 0.0, 0.6}, {0, 0, 1}, 40.0};
+  b.s.light = {4.0, -5.0, 8.0};
+}
+
 // The main job's scene: a marble sphere, a wooden box, a granite floor (noise materials,
 // like Fig. 4.3 / 4.1) and a tessellated torus with shared edges.
 Scene default_scene() {
@@ -139,12 +152,7 @@ Scene default_scene() {
   uint32_t wood = b.material(procedural("wood", MaterialKind::Wood, {0.80, 0.55, 0.30},
                                         {0.45, 0.25, 0.10}, 3.0));
   uint32_t teal = b.material(constant("teal", {0.20, 0.65, 0.60}));
-  b.grid({-4, -4, 0}, {8, 0, 0}, {0, 8, 0}, 8, 8, floor);
-  b.icosphere({-1.3, 0.2, 1.0}, 1.0, 3, marble);
-  b.oriented_box({1.4, 0.6, 0.7}, {0.7, 0.7, 0.7}, 0.5, wood);
-  b.torus({0.3, -1.6, 0.35}, 0.7, 0.3, 48, 24, teal);
-  s.camera = {{0.0, -7.0, 3.2}, {0.0, 0.0, 0.6}, {0, 0, 1}, 40.0};
-  s.light = {4.0, -5.0, 8.0};
+  default_objects(b, floor, marble, wood, teal);
   return s;
 }
 
@@ -168,13 +176,7 @@ Scene noisy_scene() {
   uint32_t wood = b.material(procedural("wood", MaterialKind::Wood, {0.80, 0.55, 0.30}, {0.45, 0.25, 0.10}, 3.0));
   uint32_t stone = b.material(eight(procedural("torus granite", MaterialKind::Turbulence, {0.30, 0.60, 0.55},
                                                {0.10, 0.25, 0.25}, 4.0)));
-  b.grid({-4, -4, 0}, {8, 0, 0}, {0, 8, 0}, 8, 8, floor);
-  b.grid({-4, 3, 0}, {8, 0, 0}, {0, 0, 5}, 8, 5, wall);
-  b.icosphere({-1.3, 0.2, 1.0}, 1.0, 3, marble);
-  b.oriented_box({1.4, 0.6, 0.7}, {0.7, 0.7, 0.7}, 0.5, wood);
-  b.torus({0.3, -1.6, 0.35}, 0.7, 0.3, 48, 24, stone);
-  s.camera = {{0.0, -7.0, 3.2}, {0.0, 0.0, 0.6}, {0, 0, 1}, 40.0};
-  s.light = {4.0, -5.0, 8.0};
+  default_objects(b, floor, marble, wood, stone, &wall);
   return s;
 }
 
