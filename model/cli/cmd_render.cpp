@@ -32,6 +32,8 @@ bool parse_render_command(int argc, char** argv, RenderCommand& c) {
   app.add_option("--texture", c.texture,
                  "procedural materials: shader (octave sums in the format around the noise model) | unit (the "
                  "texture unit ru_texture, needs --noise fixed-trunc or fixed)");
+  app.add_option("--box-format", c.opt.box_format,
+                 "BVH node boxes stored in this narrower format eXmY, rounded outward (default: the --format's own boxes)");
   app.add_option("--size", size, "image size WxH (or N)");
   app.add_option("--threads", threads, "render threads")->check(CLI::Range(1, 64));
   app.add_flag("--no-shadows", no_shadows, "primary rays only");
@@ -66,6 +68,10 @@ bool parse_render_command(int argc, char** argv, RenderCommand& c) {
   opt.trace_limit = trace_limit;
   if (leaf < 1 || leaf > 64) throw UsageError("--leaf must be 1..64");
   if (c.format != "double" && c.format != "float") ru::num::Format::parse(c.format);  // early one-line error
+  parse_or_usage([&] {
+    render::check_box_format(opt.box_format, c.format);
+    return 0;
+  });
   c.sa.check();
   return true;
 }

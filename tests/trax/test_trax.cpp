@@ -224,6 +224,48 @@ TEST(TraxImage, ReducedFormatsEqualRenderer) {
   expect_same_image(c, 12, 16, true);
 }
 
+// Scene data in the format (issue 16): packed values change addresses, not values (the image is
+// the renderer's in both layouts; "word" is the layout before issue 16); boxes in a narrower
+// format rounded outward (chip.box_format) give the renderer's --box-format image too.
+TEST(TraxImage, SceneStorageAndBoxFormatEqualRenderer) {
+  Config c = default_config();
+  c.format = "e6m12";
+  expect_same_image(c, 12, 12, true);
+  c.scene_storage = "word";
+  expect_same_image(c, 12, 12, true);
+  c.scene_storage = "format";
+  c.box_format = "e5m8";
+  expect_same_image(c, 12, 12, true);
+  c.box_format = "e7m8";  // exponent wider than e6m12's: refused with one line naming the key
+  EXPECT_THROW(c.validate("test"), ConfigError);
+  c.box_format = "e5m8-ftz";
+  EXPECT_THROW(c.validate("test"), ConfigError);
+}
+
+// Bytes per node and per triangle follow the format (packed values; header and parent link 16 B,
+// nodes 4-byte aligned) or are the old 32-bit words (nodes 16-byte aligned).
+TEST(TraxLayout, BytesPerNodeAndTriangle) {
+  struct Case {
+    const char* format;
+    const char* storage;
+    const char* box;
+    uint64_t bits, node, tri;
+  };
+  for (const Case& k : {Case{"e8m23", "word", "", 32, 48, 36}, Case{"e8m23", "format", "", 32, 40, 36},
+                        Case{"e6m12", "format", "", 19, 32, 22}, Case{"e5m10", "format", "", 16, 28, 18},
+                        Case{"e7m16", "format", "", 24, 36, 27}, Case{"e6m12", "format", "e5m8", 19, 28, 22},
+                        Case{"e6m12", "word", "e5m8", 32, 48, 36}}) {
+    Config c = default_config();
+    c.format = k.format;
+    c.scene_storage = k.storage;
+    c.box_format = k.box;
+    const TraxResult r = run_trax(scene16(), c, 2, 2);
+    EXPECT_EQ(r.value_bits, k.bits) << k.format << " " << k.storage << " " << k.box;
+    EXPECT_EQ(r.node_bytes, k.node) << k.format << " " << k.storage << " " << k.box;
+    EXPECT_EQ(r.tri_bytes, k.tri) << k.format << " " << k.storage << " " << k.box;
+  }
+}
+
 // chip.texture = "unit": one TEXTURE per procedural sample, the renderer's texture-unit image.
 TEST(TraxImage, TextureUnitEqualsRenderer) {
   Config c = default_config();
@@ -327,11 +369,39 @@ TEST(TraxImage, DeterministicCyclesAndImage) {
       EXPECT_TRUE(it.estimate) << it.name;
       EXPECT_NE(it.name.find("estimate"), std::string::npos) << it.name;
     }
-  EXPECT_EQ(memories, 4);
+  EXPECT_EQ(memories, 5);  // FP and integer register files, local stores, L1s, L2
   EXPECT_GE(cb.area.estimated, cb.area.memories);
   // Changing one latency changes the cycle count.
   c.unit(Unit::Box).latency += 10;
   EXPECT_NE(run_trax(s, c, 12, 12).sim.cycles, a.sim.cycles);
+}
+
+// The memory model by hand (docs/TRAX.md "Memories"): CACTI's 146 F^2 cell (10 F x 14.6 F) at
+// F = 0.18 um is 4.7304 um2; a 2R1W register-file cell grows by 2 x 2.5 F per extra port each way:
+// (14.6 + 10) F x (10 + 10) F = 492 F^2 = 15.9408 um2. A 32 KB direct-mapped cache of 64 B lines:
+// 512 lines of 512 data bits + 17 tag bits (32 - 9 index - 6 offset) + 1 valid = 271,360 bits.
+TEST(TraxArea, MemoryModelByHand) {
+  Config c = default_config();
+  EXPECT_NEAR(memory_cell_um2(c, 1, 0, 0), 4.7304, 1e-9);
+  EXPECT_NEAR(memory_cell_um2(c, 0, 2, 1), 15.9408, 1e-9);
+  EXPECT_DOUBLE_EQ(cache_bits(c, c.l1), 271360.0);
+  CacheCfg four = c.l1;
+  four.ways = 4;  // 128 sets: 2 more tag bits per line
+  EXPECT_DOUBLE_EQ(cache_bits(c, four), 512.0 * (512 + 19 + 1));
+  // The FP register file follows the format: 96 registers x 16 bits at e5m10, x 32 at e8m23.
+  for (const char* f : {"e5m10", "e8m23"}) {
+    c.format = f;
+    const TraxResult r = run_trax(scene16(), c, 2, 2);
+    const double bits = f[1] == '5' ? 16 : 32;
+    bool seen = false;
+    for (const auto& it : r.area.items)
+      if (it.name.rfind("FP register files", 0) == 0) {
+        seen = true;
+        EXPECT_NEAR(it.each, 96 * bits * 15.9408 / 0.5, 1e-6) << f;
+        EXPECT_EQ(it.count, 128);
+      }
+    EXPECT_TRUE(seen);
+  }
 }
 
 TEST(TraxConfig, BadKeysGiveOneLineNamingTheKey) {

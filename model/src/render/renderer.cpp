@@ -50,6 +50,31 @@ TriAlgo parse_tri(const std::string& s) {
   if (s == "mt") return TriAlgo::MT;
   throw std::invalid_argument("unknown triangle test '" + s + "' (accepted: robust, mt)");
 }
+void check_box_format(const std::string& box, const std::string& format) {
+  if (box.empty()) return;
+  const std::string accepted = "(accepted: an eXmY format, without -ftz, no wider than the render format " + format + ")";
+  num::Format b;
+  try {
+    b = num::Format::parse(box);
+    b.validate();
+  } catch (const std::exception& e) {
+    throw std::invalid_argument("bad box format '" + box + "': " + e.what() + " " + accepted);
+  }
+  if (!b.subnormals) throw std::invalid_argument("box format '" + box + "' flushes to zero: outward rounding needs its subnormals " + accepted);
+  const num::Format f = format == "double" ? num::Format{11, 52}
+                        : format == "float" ? num::Format{8, 23}
+                                            : num::Format::parse(format);
+  if (b.exp_bits > f.exp_bits || b.frac_bits > f.frac_bits || (!f.subnormals && b.exp_bits == f.exp_bits))
+    throw std::invalid_argument("box format '" + box + "' has values the render format " + format +
+                                " does not hold " + accepted);
+}
+
+double round_box_bound(const num::Format& box, double x, bool up) {
+  num::Format f = box;
+  f.round = up ? num::Round::RUP : num::Round::RDN;
+  return num::to_double(f, num::from_double(f, x).bits);
+}
+
 BvhKind parse_bvh(const std::string& s) {
   if (s == "sah") return BvhKind::Sah;
   if (s == "median") return BvhKind::Median;
@@ -248,6 +273,8 @@ Image render(const scene::Scene& s, const RenderOptions& opt, RenderStats* stats
   RenderStats& st = stats ? *stats : local;
   st = RenderStats{};
   st.format = opt.format;
+  if (opt.format != "probe") check_box_format(opt.box_format, opt.format);
+  else if (!opt.box_format.empty()) throw std::invalid_argument("a box format is not accepted with format probe");
   if (opt.format == "double") return render_t<double>(s, opt, num::Format{11, 52}, st);
   if (opt.format == "float") return render_t<float>(s, opt, num::Format{8, 23}, st);
   if (opt.format == "probe") return render_t<Probe>(s, opt, num::Format{11, 52}, st);

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "rayunits/num/format.hpp"
+#include "rayunits/render/render.hpp"
 
 namespace ru::trax {
 
@@ -92,11 +93,8 @@ std::string unit_names() {
   return s;
 }
 
-int Config::value_bytes() const {
-  const std::string f = format == "float" ? "e8m23" : format;
-  const num::Format F = num::Format::parse(f);
-  return 1 + F.exp_bits + F.frac_bits <= 32 ? 4 : 8;
-}
+int Config::value_bits() const { return num::Format::parse(format == "float" ? "e8m23" : format).width(); }
+int Config::value_bytes() const { return value_bits() <= 32 ? 4 : 8; }
 
 Config default_config() {
   Config c;
@@ -160,6 +158,13 @@ void Config::validate(const std::string& source) const {
   check_cache(R, l2, "l2");
   if (l2.line < l1.line) R.fail("l2.line", "must be >= l1.line");
   if (!(dram_bytes_per_cycle > 0)) R.fail("dram.bytes_per_cycle", "must be > 0");
+  if (scene_storage != "format" && scene_storage != "word") R.fail("chip.scene_storage", "must be format or word");
+  try {
+    render::check_box_format(box_format, format);
+  } catch (const std::exception& e) {
+    R.fail("chip.box_format", e.what());
+  }
+  if (!(array_efficiency > 0 && array_efficiency <= 1)) R.fail("area.array_efficiency", "must be in (0, 1]");
 }
 
 Config parse_config(const std::string& text, const std::string& source, const Config& base) {
@@ -206,14 +211,23 @@ Config parse_config(const std::string& text, const std::string& source, const Co
         else if (k == "traversal") c.traversal = R.choice(v, key, {"stack", "stackless"});
         else if (k == "bvh") c.bvh = R.choice(v, key, {"sah", "median"});
         else if (k == "leaf_size") c.leaf_size = static_cast<int>(R.integer(v, key, 1, 64));
-        else if (k == "registers_per_thread") c.registers_per_thread = static_cast<int>(R.integer(v, key, 1, 65536));
+        else if (k == "fp_registers_per_thread")
+          c.fp_registers_per_thread = static_cast<int>(R.integer(v, key, 0, 65536));
+        else if (k == "int_registers_per_thread")
+          c.int_registers_per_thread = static_cast<int>(R.integer(v, key, 0, 65536));
+        else if (k == "scene_storage") c.scene_storage = R.choice(v, key, {"format", "word"});
+        else if (k == "box_format") {
+          const auto s = v.value_exact<std::string>();
+          if (!s) R.fail(key, "must be a string (\"\" or eXmY)");
+          c.box_format = *s;
+        }
         else if (k == "local_store_bytes") c.local_store_bytes = static_cast<int>(R.integer(v, key, 0, 1 << 24));
         else if (k == "framebuffer_bytes_per_pixel")
           c.framebuffer_bytes_per_pixel = static_cast<int>(R.integer(v, key, 1, 64));
         else
           R.fail(key, "unknown key (accepted in [chip]: tms, tps_per_tm, clock_mhz, format, tri, box, noise, texture, "
-                      "traversal, bvh, leaf_size, registers_per_thread, local_store_bytes, "
-                      "framebuffer_bytes_per_pixel)");
+                      "traversal, bvh, leaf_size, fp_registers_per_thread, int_registers_per_thread, "
+                      "local_store_bytes, framebuffer_bytes_per_pixel, scene_storage, box_format)");
       }
     } else if (sec == "units") {
       for (const auto& [uk, uv] : R.table(sv, sec)) {
@@ -285,9 +299,17 @@ Config parse_config(const std::string& text, const std::string& source, const Co
     } else if (sec == "area") {
       for (const auto& [k, v] : R.table(sv, sec)) {
         const std::string key = sec + "." + std::string(k.str());
-        if (k == "sram_bit") c.sram_bit = R.number(v, key, 0, 1e6);
-        else if (k == "regfile_bit") c.regfile_bit = R.number(v, key, 0, 1e6);
-        else R.fail(key, "unknown key (accepted in [area]: sram_bit, regfile_bit)");
+        if (k == "feature_um") c.feature_um = R.number(v, key, 1e-3, 10);
+        else if (k == "sram_cell_f2") c.sram_cell_f2 = R.number(v, key, 1, 1e4);
+        else if (k == "sram_cell_aspect") c.sram_cell_aspect = R.number(v, key, 0.1, 10);
+        else if (k == "wire_pitch_f") c.wire_pitch_f = R.number(v, key, 0, 100);
+        else if (k == "array_efficiency") c.array_efficiency = R.number(v, key, 0.01, 1);
+        else if (k == "regfile_read_ports") c.regfile_read_ports = static_cast<int>(R.integer(v, key, 1, 64));
+        else if (k == "regfile_write_ports") c.regfile_write_ports = static_cast<int>(R.integer(v, key, 1, 64));
+        else if (k == "address_bits") c.address_bits = static_cast<int>(R.integer(v, key, 16, 64));
+        else
+          R.fail(key, "unknown key (accepted in [area]: feature_um, sram_cell_f2, sram_cell_aspect, wire_pitch_f, "
+                      "array_efficiency, regfile_read_ports, regfile_write_ports, address_bits)");
       }
     } else {
       R.fail(sec, "unknown section (accepted: chip, units, atomic, local_store, l1, l2, dram, area)");
@@ -318,8 +340,10 @@ std::string to_toml(const Config& c) {
     << c.tri << "\"\nbox = \"" << c.box << "\"\nnoise = \"" << c.noise << "\"\ntexture = \"" << c.texture
     << "\"\ntraversal = \"" << c.traversal
     << "\"\nbvh = \"" << c.bvh << "\"\nleaf_size = " << c.leaf_size
-    << "\nregisters_per_thread = " << c.registers_per_thread << "\nlocal_store_bytes = " << c.local_store_bytes
-    << "\nframebuffer_bytes_per_pixel = " << c.framebuffer_bytes_per_pixel << "\n";
+    << "\nfp_registers_per_thread = " << c.fp_registers_per_thread
+    << "\nint_registers_per_thread = " << c.int_registers_per_thread << "\nlocal_store_bytes = " << c.local_store_bytes
+    << "\nframebuffer_bytes_per_pixel = " << c.framebuffer_bytes_per_pixel << "\nscene_storage = \"" << c.scene_storage
+    << "\"\nbox_format = \"" << c.box_format << "\"\n";
   for (int i = 0; i < kUnits; ++i) {
     const UnitCfg& u = c.units[i];
     o << "\n[units." << kUnitNames[i] << "]\nlatency = ";
@@ -343,9 +367,11 @@ std::string to_toml(const Config& c) {
   }
   o << "\n[dram]\nlatency = " << c.dram_latency << "\nbytes_per_cycle = " << fmt_num(c.dram_bytes_per_cycle)
     << (std::floor(c.dram_bytes_per_cycle) == c.dram_bytes_per_cycle ? ".0" : "") << "\n";
-  o << "\n[area]\nsram_bit = " << fmt_num(c.sram_bit) << (std::floor(c.sram_bit) == c.sram_bit ? ".0" : "")
-    << "\nregfile_bit = " << fmt_num(c.regfile_bit) << (std::floor(c.regfile_bit) == c.regfile_bit ? ".0" : "")
-    << "\n";
+  auto real = [&](double v) { return fmt_num(v) + (std::floor(v) == v ? ".0" : ""); };
+  o << "\n[area]\nfeature_um = " << real(c.feature_um) << "\nsram_cell_f2 = " << real(c.sram_cell_f2)
+    << "\nsram_cell_aspect = " << real(c.sram_cell_aspect) << "\nwire_pitch_f = " << real(c.wire_pitch_f)
+    << "\narray_efficiency = " << real(c.array_efficiency) << "\nregfile_read_ports = " << c.regfile_read_ports
+    << "\nregfile_write_ports = " << c.regfile_write_ports << "\naddress_bits = " << c.address_bits << "\n";
   return o.str();
 }
 

@@ -35,10 +35,10 @@ struct KernelHooks<ru::trax::TVal> {
     trax::Thread* t = trax::Thread::current();
     if (!t) return;
     if (trax::software_noise()) {
-      res.reg = trax::emit_software_noise(*t, q);
+      res.reg = t->mark_fp(trax::emit_software_noise(*t, q));
       return;
     }
-    res.reg = t->emit(trax::Op::Noise, {trax::detail::use(q.x), trax::detail::use(q.y), trax::detail::use(q.z)});
+    res.reg = t->mark_fp(t->emit(trax::Op::Noise, {trax::detail::use(q.x), trax::detail::use(q.y), trax::detail::use(q.z)}));
     if (t->keep_operands()) {
       // The hardware unit's words, exactly as Tracer::noise_at feeds FixedNoise (noise = fixed-trunc
       // or fixed; with noise = float there is no hardware unit and the record is not co-simulated).
@@ -57,7 +57,7 @@ struct KernelHooks<ru::trax::TVal> {
   static void texture(int mode, int n, const Vec3<trax::TVal>& q, trax::TVal& res) {
     trax::Thread* t = trax::Thread::current();
     if (!t) return;
-    res.reg = t->emit(trax::Op::Texture, {trax::detail::use(q.x), trax::detail::use(q.y), trax::detail::use(q.z)});
+    res.reg = t->mark_fp(t->emit(trax::Op::Texture, {trax::detail::use(q.x), trax::detail::use(q.y), trax::detail::use(q.z)}));
     t->stream().code.back().aux = static_cast<uint8_t>(n);
     if (t->keep_operands()) {
       // the unit's words, exactly as Tracer::texture_at feeds FixedTexture
@@ -80,20 +80,37 @@ namespace {
 
 using num::Soft;
 
-// Scene memory layout (byte addresses; W = bytes per value).
-//   node i: lo.xyz, hi.xyz (6W), header (8 B: left/right or first/count, axis), parent (8 B)
-//   triangle i: p0, p1, p2 (9W) in leaf order; material j: c1, c2, freq (7W, stride 8W)
-//   camera/light: eye, c, u, v, light (15W); frame buffer: bytes_per_pixel per pixel
+uint64_t align(uint64_t x, uint64_t a) { return (x + a - 1) / a * a; }
+
+// Scene memory layout (byte addresses). A record's values are packed at `bits` each: value k of
+// a record at byte base + floor(k x bits / 8) (chip.scene_storage = "format": bits = the format's
+// width; "word": bits = 32 (64 above 32-bit formats), every value in its own word).
+//   node i: lo.xyz, hi.xyz (6 values), header (8 B: left/right or first/count, axis), parent
+//     (8 B); "format": 4-byte aligned, "word": 16-byte aligned (the layout before issue 16)
+//   triangle i: p0, p1, p2 (9 values, whole bytes) in leaf order; material j: c1, c2, freq
+//   (7 values, stride 8); camera/light: eye, c, u, v, light (15 values), the volume (12);
+//   frame buffer: bytes_per_pixel per pixel
+// A load is charged to the cache line of the value's first byte (a packed value that crosses a
+// line boundary is not charged a second line).
 struct Layout {
-  uint64_t W = 4, node_base = 0x1000000, node_bytes = 48, tri_base = 0, tri_bytes = 36, mat_base = 0,
-           cam_base = 0, fb_base = 0x80000000ull;
+  uint64_t bits = 32, node_base = 0x1000000, node_bytes = 48, box_bytes = 24, tri_base = 0, tri_bytes = 36,
+           mat_base = 0, cam_base = 0, fb_base = 0x80000000ull;
+  uint64_t box_bits = 32;  // a node's box values (chip.box_format's width, else bits)
+  void set(uint64_t value_bits, uint64_t box_value_bits, bool word) {
+    bits = value_bits;
+    box_bits = box_value_bits;
+    box_bytes = (6 * box_bits + 7) / 8;
+    node_bytes = align(box_bytes + 16, word ? 16 : 4);
+    tri_bytes = bytes(9);
+  }
+  uint64_t bytes(int n) const { return (n * bits + 7) / 8; }             // n packed values, whole bytes
+  uint64_t at(uint64_t base, int k) const { return base + k * bits / 8; }  // value k of a record
+  uint64_t box_at(int64_t i, int k) const { return node(i) + k * box_bits / 8; }  // box value k of node i
   uint64_t node(int64_t i) const { return node_base + static_cast<uint64_t>(i) * node_bytes; }
-  uint64_t header(int64_t i) const { return node(i) + 6 * W; }
-  uint64_t parent(int64_t i) const { return node(i) + 6 * W + 8; }
+  uint64_t header(int64_t i) const { return node(i) + box_bytes; }
+  uint64_t parent(int64_t i) const { return node(i) + box_bytes + 8; }
   uint64_t tri(int64_t i) const { return tri_base + static_cast<uint64_t>(i) * tri_bytes; }
 };
-
-uint64_t align(uint64_t x, uint64_t a) { return (x + a - 1) / a * a; }
 
 struct Ctx {
   const Config* cfg = nullptr;
@@ -129,11 +146,11 @@ bool box(Tracer<TVal>& tr, const Ray& r, int32_t node, uint32_t addr_reg, const 
     s[k] = use(r.o[k]);
     s[3 + k] = use(r.inv[k]);
   }
-  for (int k = 0; k < 6; ++k) s[6 + k] = th().load(C.L.node(node) + k * C.L.W, addr_reg);
+  for (int k = 0; k < 6; ++k) s[6 + k] = th().mark_fp(th().load(C.L.box_at(node, k), addr_reg));
   s[12] = use(tmin);
   s[13] = use(tmax);
   const auto res = units::ray_box(soft(r.o), soft(r.inv), soft(n.lo), soft(n.hi), tmin.v, tmax.v, tr.opt.box);
-  const uint32_t reg = th().emit(Op::Box, s, 14);
+  const uint32_t reg = th().mark_fp(th().emit(Op::Box, s, 14));  // hit and t_enter
   if (th().keep_operands()) {
     const uint64_t w[kBoxIn + kBoxOut] = {
         r.o.x.v.bits,  r.o.y.v.bits,  r.o.z.v.bits,  r.inv.x.v.bits, r.inv.y.v.bits, r.inv.z.v.bits, n.lo.x.v.bits,
@@ -159,7 +176,7 @@ bool tri(Tracer<TVal>& tr, const Ray& r, uint32_t i, uint32_t addr_reg, const TV
     s[k] = use(r.o[k]);
     s[3 + k] = use(r.d[k]);
   }
-  for (int k = 0; k < 9; ++k) s[6 + k] = th().load(C.L.tri(i) + k * C.L.W, addr_reg);
+  for (int k = 0; k < 9; ++k) s[6 + k] = th().mark_fp(th().load(C.L.at(C.L.tri(i), k), addr_reg));
   s[15] = use(tmin);
   s[16] = use(tmax);
   const units::TriResult<Soft> res =
@@ -168,7 +185,7 @@ bool tri(Tracer<TVal>& tr, const Ray& r, uint32_t i, uint32_t addr_reg, const TV
           : units::ray_tri_mt(soft(r.o), soft(r.d), soft(T.p0), soft(T.p1), soft(T.p2), tmin.v, tmax.v);
   const bool hit = res.hit;
   const Soft th_ = res.t;
-  const uint32_t reg = th().emit(Op::Tri, s, 17);
+  const uint32_t reg = th().mark_fp(th().emit(Op::Tri, s, 17));  // hit and t
   if (th().keep_operands()) {
     const uint64_t w[kTriIn + kTriOut] = {
         r.o.x.v.bits,  r.o.y.v.bits,  r.o.z.v.bits,  r.d.x.v.bits,  r.d.y.v.bits,  r.d.z.v.bits,
@@ -358,21 +375,21 @@ Prepared<TVal> tag(const Prepared<Soft>& S, const Layout& L) {
     return t;
   };
   auto vec = [&](const Vec3<Soft>& v, uint64_t addr) {
-    return Vec3<TVal>{val(v.x, addr), val(v.y, addr + L.W), val(v.z, addr + 2 * L.W)};
+    return Vec3<TVal>{val(v.x, L.at(addr, 0)), val(v.y, L.at(addr, 1)), val(v.z, L.at(addr, 2))};
   };
+  auto at = [&](uint64_t base, int k) { return L.at(base, k); };
   P.tris.resize(S.tris.size());
   for (size_t i = 0; i < S.tris.size(); ++i) {
     const uint64_t a = L.tri(static_cast<int64_t>(i));
-    P.tris[i] = {vec(S.tris[i].p0, a), vec(S.tris[i].p1, a + 3 * L.W), vec(S.tris[i].p2, a + 6 * L.W)};
+    P.tris[i] = {vec(S.tris[i].p0, a), vec(S.tris[i].p1, at(a, 3)), vec(S.tris[i].p2, at(a, 6))};
   }
   P.tri_mat = S.tri_mat;
   P.nodes.resize(S.nodes.size());
   for (size_t i = 0; i < S.nodes.size(); ++i) {
     const auto& s = S.nodes[i];
     auto& n = P.nodes[i];
-    const uint64_t a = L.node(static_cast<int64_t>(i));
-    n.lo = vec(s.lo, a);
-    n.hi = vec(s.hi, a + 3 * L.W);
+    n.lo = {val(s.lo.x, L.box_at(i, 0)), val(s.lo.y, L.box_at(i, 1)), val(s.lo.z, L.box_at(i, 2))};
+    n.hi = {val(s.hi.x, L.box_at(i, 3)), val(s.hi.y, L.box_at(i, 4)), val(s.hi.z, L.box_at(i, 5))};
     n.left = s.left;
     n.right = s.right;
     n.first = s.first;
@@ -382,20 +399,20 @@ Prepared<TVal> tag(const Prepared<Soft>& S, const Layout& L) {
   P.root = S.root;
   P.depth = S.depth;
   for (size_t m = 0; m < S.mats.size(); ++m) {
-    const uint64_t a = L.mat_base + m * 8 * L.W;
-    P.mats.push_back({S.mats[m].kind, vec(S.mats[m].c1, a), vec(S.mats[m].c2, a + 3 * L.W), val(S.mats[m].freq, a + 6 * L.W),
+    const uint64_t a = at(L.mat_base, static_cast<int>(8 * m));
+    P.mats.push_back({S.mats[m].kind, vec(S.mats[m].c1, a), vec(S.mats[m].c2, at(a, 3)), val(S.mats[m].freq, at(a, 6)),
                       S.mats[m].octaves});
   }
   P.eye = vec(S.eye, L.cam_base);
-  P.c = vec(S.c, L.cam_base + 3 * L.W);
-  P.u = vec(S.u, L.cam_base + 6 * L.W);
-  P.v = vec(S.v, L.cam_base + 9 * L.W);
-  P.light = vec(S.light, L.cam_base + 12 * L.W);
+  P.c = vec(S.c, at(L.cam_base, 3));
+  P.u = vec(S.u, at(L.cam_base, 6));
+  P.v = vec(S.v, at(L.cam_base, 9));
+  P.light = vec(S.light, at(L.cam_base, 12));
   if (S.has_volume) {  // the volume (Fig. 4.1's smoke) after the camera: 12 words
-    const uint64_t a = L.cam_base + 15 * L.W;
+    const uint64_t a = at(L.cam_base, 15);
     P.has_volume = true;
-    P.vol = {vec(S.vol.lo, a), vec(S.vol.hi, a + 3 * L.W), vec(S.vol.color, a + 6 * L.W), val(S.vol.freq, a + 9 * L.W),
-             val(S.vol.density, a + 10 * L.W), val(S.vol.bias, a + 11 * L.W), val(S.vol.inv_steps, 0), S.vol.steps,
+    P.vol = {vec(S.vol.lo, a), vec(S.vol.hi, at(a, 3)), vec(S.vol.color, at(a, 6)), val(S.vol.freq, at(a, 9)),
+             val(S.vol.density, at(a, 10)), val(S.vol.bias, at(a, 11)), val(S.vol.inv_steps, 0), S.vol.steps,
              S.vol.octaves};
   }
   // Scalar constants are immediates.
@@ -419,8 +436,8 @@ class RenderWork : public WorkSource {
     TVal px, py;
     px.v = Soft::from_double(x + 0.5);
     py.v = Soft::from_double(y + 0.5);
-    px.reg = t.emit(Op::Conv, {rx});
-    py.reg = t.emit(Op::Conv, {ry});
+    px.reg = t.mark_fp(t.emit(Op::Conv, {rx}));
+    py.reg = t.mark_fp(t.emit(Op::Conv, {ry}));
     const Vec3<TVal> d = tr_.primary_dir(px, py);
     const Vec3<TVal> c = tr_.shade_pixel(d);
     // Clamp to [0, 1] (max, min) and convert to 8 bits per channel; one frame-buffer store.
@@ -457,8 +474,8 @@ class RayWork : public WorkSource {
     TVal px, py;
     px.v = Soft::from_double(x + 0.5);
     py.v = Soft::from_double(y + 0.5);
-    px.reg = t.emit(Op::Conv, {rx});
-    py.reg = t.emit(Op::Conv, {ry});
+    px.reg = t.mark_fp(t.emit(Op::Conv, {rx}));
+    py.reg = t.mark_fp(t.emit(Op::Conv, {ry}));
     const Vec3<TVal> d = tr_.primary_dir(px, py);
     ++primary;
     const Ray r = tr_.make_ray(P.eye, d);
@@ -592,6 +609,7 @@ render::RenderOptions render_options(const Config& c, int width, int height) {
   o.noise = render::parse_noise(c.noise);
   o.texture = render::parse_texture(c.texture);
   o.leaf_size = c.leaf_size;
+  o.box_format = c.box_format;
   o.shadows = true;
   o.threads = 1;
   return o;
@@ -632,12 +650,15 @@ TraxResult run_trax(const scene::Scene& s, const Config& c_in, int width, int he
   if (C.stackless && S.depth > 63)
     throw std::invalid_argument("stackless traversal: BVH depth " + std::to_string(S.depth) + " exceeds the 63-bit trail");
   Layout& L = C.L;
-  L.W = static_cast<uint64_t>(c.value_bytes());
-  L.node_bytes = align(6 * L.W + 16, 16);
-  L.tri_bytes = 9 * L.W;
+  const bool word = c.scene_storage == "word";
+  const uint64_t vbits = word ? 8 * static_cast<uint64_t>(c.value_bytes()) : static_cast<uint64_t>(c.value_bits());
+  L.set(vbits, word || c.box_format.empty() ? vbits : static_cast<uint64_t>(num::Format::parse(c.box_format).width()), word);
   L.tri_base = align(L.node(static_cast<int64_t>(S.nodes.size())), 4096);
   L.mat_base = align(L.tri(static_cast<int64_t>(S.tris.size())), 4096);
-  L.cam_base = align(L.mat_base + S.mats.size() * 8 * L.W, 4096);
+  L.cam_base = align(L.at(L.mat_base, static_cast<int>(8 * S.mats.size())), 4096);
+  R.value_bits = L.bits;
+  R.node_bytes = L.node_bytes;
+  R.tri_bytes = L.tri_bytes;
   C.soft_noise = ro.software_noise;
   // the model the renderer's Tracer evaluates too (the same default_config of the datapath)
   static const noise::FixedNoise kTrunc{noise::default_config(noise::NoiseDatapath::kTrunc)},
@@ -646,7 +667,7 @@ TraxResult run_trax(const scene::Scene& s, const Config& c_in, int width, int he
   static const noise::FixedTexture kTexTrunc{render::texture_config(render::NoiseMode::FixedTrunc)},
       kTexFull{render::texture_config(render::NoiseMode::Fixed)};
   C.texture = c.noise == "fixed" ? &kTexFull : &kTexTrunc;
-  C.noise_table_base = align(L.cam_base + 27 * L.W, 4096);  // camera 15 words, volume 12
+  C.noise_table_base = align(L.at(L.cam_base, 27), 4096);  // camera 15 values, volume 12
   C.parent.assign(S.nodes.size(), -1);
   for (size_t i = 0; i < S.nodes.size(); ++i)
     if (S.nodes[i].left >= 0) {

@@ -1,4 +1,5 @@
 // TRaX model: area estimate and the summary (JSON, Markdown, last stdout line).
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
@@ -7,6 +8,19 @@
 #include "rayunits/trax/trax.hpp"
 
 namespace ru::trax {
+
+double memory_cell_um2(const Config& c, int rw, int r, int w) {
+  const double bw = std::sqrt(c.sram_cell_f2 / c.sram_cell_aspect), bh = c.sram_cell_aspect * bw;  // F
+  const double p = c.wire_pitch_f;
+  const double h = bh + 2 * p * (w + rw - 1 + r), wd = bw + 2 * p * (rw - 1 + r + w);
+  return h * wd * c.feature_um * c.feature_um;
+}
+
+double cache_bits(const Config& c, const CacheCfg& k) {
+  const double lines = double(k.size) / k.line, sets = lines / k.ways;
+  const double tag = c.address_bits - std::log2(sets) - std::log2(double(k.line));
+  return lines * (8.0 * k.line + tag + 1);
+}
 
 Area area_estimate(const Config& c, const SimStats& st, const std::vector<AreaSource>* sources) {
   if (!(c.nand2_um2 > 0)) throw ConfigError("area_estimate: the configuration is not resolved (resolve_config)");
@@ -20,23 +34,29 @@ Area area_estimate(const Config& c, const SimStats& st, const std::vector<AreaSo
                        double(c.tms) * k.count, k.area, !measured});
     a.units += a.items.back().total();
   }
-  const double reg_bits = 8.0 * c.value_bytes();
-  const std::string est = " NAND2-eq/bit x NAND2X1, estimate)";
-  auto n = [](double v) {
+  auto n = [](double v, const char* f = "%g") {
     char b[32];
-    std::snprintf(b, sizeof b, "%g", v);
+    std::snprintf(b, sizeof b, f, v);
     return std::string(b);
   };
+  const double sram = memory_cell_um2(c, 1, 0, 0) / c.array_efficiency;
+  const double rf = memory_cell_um2(c, 0, c.regfile_read_ports, c.regfile_write_ports) / c.array_efficiency;
+  const std::string est = " um2/bit at efficiency " + n(c.array_efficiency) + "; memory model, estimate)";
+  const std::string ports = std::to_string(c.regfile_read_ports) + "R" + std::to_string(c.regfile_write_ports) + "W ";
+  const int fbits = c.value_bits();
   const std::vector<AreaItem> mem = {
-      {"register files (" + std::to_string(c.registers_per_thread) + " x " + std::to_string(int(reg_bits)) +
-           " bits per thread; " + n(c.regfile_bit) + est,
-       double(c.threads()), c.registers_per_thread * reg_bits * c.regfile_bit * c.nand2_um2, true},
-      {"local stores (" + std::to_string(c.local_store_bytes) + " B per thread; " + n(c.sram_bit) + est,
-       double(c.threads()), c.local_store_bytes * 8.0 * c.sram_bit * c.nand2_um2, true},
-      {"L1 data caches (" + std::to_string(c.l1.size) + " B; " + n(c.sram_bit) + est, double(c.tms),
-       double(c.l1.size) * 8.0 * c.sram_bit * c.nand2_um2, true},
-      {"L2 cache (" + std::to_string(c.l2.size) + " B; " + n(c.sram_bit) + est, 1.0,
-       double(c.l2.size) * 8.0 * c.sram_bit * c.nand2_um2, true},
+      {"FP register files (" + std::to_string(c.fp_registers_per_thread) + " x " + std::to_string(fbits) +
+           " bits per thread; " + ports + n(rf, "%.3g") + est,
+       double(c.threads()), double(c.fp_registers_per_thread) * fbits * rf, true},
+      {"integer register files (" + std::to_string(c.int_registers_per_thread) + " x 32 bits per thread; " + ports +
+           n(rf, "%.3g") + est,
+       double(c.threads()), double(c.int_registers_per_thread) * 32 * rf, true},
+      {"local stores (" + std::to_string(c.local_store_bytes) + " B per thread; " + n(sram, "%.3g") + est,
+       double(c.threads()), c.local_store_bytes * 8.0 * sram, true},
+      {"L1 data caches (" + std::to_string(c.l1.size) + " B + tags; " + n(sram, "%.3g") + est, double(c.tms),
+       cache_bits(c, c.l1) * sram, true},
+      {"L2 cache (" + std::to_string(c.l2.size) + " B + tags; " + n(sram, "%.3g") + est, 1.0,
+       cache_bits(c, c.l2) * sram, true},
   };
   for (const auto& m : mem) {
     a.items.push_back(m);
@@ -102,6 +122,12 @@ std::string summary_json(const TraxResult& r, const std::string& scene_name, con
   o["up_steps"] = r.up_steps;
   o["max_stack_entries"] = r.max_stack;
   o["max_live_registers"] = s.max_live_registers;
+  o["max_live_fp_registers"] = s.max_live_fp_registers;
+  o["max_live_int_registers"] = s.max_live_int_registers;
+  o["scene_storage"] = c.scene_storage;
+  o["value_bits"] = r.value_bits;
+  o["node_bytes"] = r.node_bytes;
+  o["tri_bytes"] = r.tri_bytes;
   o["bvh_nodes"] = r.bvh_nodes;
   o["bvh_depth"] = r.bvh_depth;
   J ops = J::object();
@@ -163,8 +189,11 @@ std::string summary_md(const TraxResult& r, const std::string& scene_name, const
     << "| box / tri tests, noise | " << r.box_tests << " / " << r.tri_tests << ", " << r.noise_evals << " |\n"
     << "| node visits | " << r.node_visits << " (" << num(r.rays() ? double(r.node_visits) / r.rays() : 0, "%.2f")
     << " per ray; stackless up-steps " << r.up_steps << ") |\n"
-    << "| registers per thread (max live) | " << s.max_live_registers << " (configured " << c.registers_per_thread
-    << ") |\n"
+    << "| registers per thread (max live) | " << s.max_live_fp_registers << " FP + " << s.max_live_int_registers
+    << " integer, " << s.max_live_registers << " together (configured " << c.fp_registers_per_thread << " FP x "
+    << c.value_bits() << " bits + " << c.int_registers_per_thread << " integer x 32 bits) |\n"
+    << "| scene data | " << c.scene_storage << ": " << r.value_bits << "-bit values, " << r.node_bytes
+    << " B per BVH node, " << r.tri_bytes << " B per triangle |\n"
     << "| local store per thread | " << 8 * r.max_stack << " B used (stack entries " << r.max_stack << " x 8 B; configured "
     << c.local_store_bytes << " B) |\n"
     << "| L1 hit rate | " << num(100 * s.l1.hit_rate(), "%.2f") << " % (" << s.l1.accesses << " accesses, "
@@ -197,8 +226,9 @@ std::string summary_md(const TraxResult& r, const std::string& scene_name, const
       << s.unit_ops[u] << " | " << num(100 * s.utilisation(c, static_cast<Unit>(u)), "%.1f") << " % | "
       << num(k.area, "%.0f") << " | " << (k.fmax_mhz > 0 ? num(k.fmax_mhz, "%.1f") : std::string("not timed")) << " |\n";
   }
-  o << "\n## Area model (um2; osu018 cell area before placement, NAND2X1 = " << num(c.nand2_um2, "%g")
-    << " um2)\n\n| item | count | each | total | |\n|---|---:|---:|---:|---|\n";
+  o << "\n## Area model (um2; units: osu018 cell area before placement, NAND2X1 = " << num(c.nand2_um2, "%g")
+    << " um2; memories: CACTI's " << num(c.sram_cell_f2, "%g") << " F^2 SRAM cell at F = " << num(c.feature_um, "%g")
+    << " um, grown per port, / array efficiency " << num(c.array_efficiency, "%g") << ", docs/TRAX.md \"Memories\")\n\n| item | count | each | total | |\n|---|---:|---:|---:|---|\n";
   for (const auto& it : r.area.items)
     o << "| " << it.name << " | " << num(it.count, "%g") << " | " << num(it.each, "%.0f") << " | "
       << num(it.total(), "%.0f") << " | " << (it.estimate ? "estimate" : "measured") << " |\n";

@@ -25,7 +25,7 @@ const char* op_name(Op op) {
 uint32_t Thread::load_cached(uint64_t addr) {
   auto it = load_cache_.find(addr);
   if (it != load_cache_.end()) return it->second;
-  const uint32_t r = load(addr);
+  const uint32_t r = mark_fp(load(addr));  // a scene value of the format
   load_cache_.emplace(addr, r);
   return r;
 }
@@ -42,24 +42,33 @@ void Thread::finish() {
     for (uint32_t k = 0; k < in.nsrc; ++k) end[s.srcs[in.src + k]] = i;
     if (in.dst && end[in.dst] < i) end[in.dst] = i;
   }
-  // delta[i]: +1 at definition, -1 after the last use (register 1, the item, is live from 0).
-  std::vector<int32_t> delta(s.code.size() + 1, 0);
+  // delta[k][i]: +1 at definition, -1 after the last use, per register file k (0 integer, 1 FP;
+  // register 1, the item, is an integer live from 0).
+  auto is_fp = [&](uint32_t r) { return r < s.fp.size() && s.fp[r]; };
+  std::vector<int32_t> delta[2];
+  for (auto& d : delta) d.assign(s.code.size() + 1, 0);
   if (!s.code.empty()) {
-    delta[0] += 1;
-    delta[end[1] + 1] -= 1;
+    delta[0][0] += 1;
+    delta[0][end[1] + 1] -= 1;
   }
   for (uint32_t i = 0; i < s.code.size(); ++i) {
     const Instr& in = s.code[i];
     if (!in.dst) continue;
-    delta[i] += 1;
-    delta[end[in.dst] + 1] -= 1;
+    auto& d = delta[is_fp(in.dst) ? 1 : 0];
+    d[i] += 1;
+    d[end[in.dst] + 1] -= 1;
   }
-  int32_t live = 0, best = 0;
+  int32_t live[2] = {0, 0}, best[3] = {0, 0, 0};
   for (size_t i = 0; i < s.code.size(); ++i) {
-    live += delta[i];
-    best = std::max(best, live);
+    for (int k = 0; k < 2; ++k) {
+      live[k] += delta[k][i];
+      best[k] = std::max(best[k], live[k]);
+    }
+    best[2] = std::max(best[2], live[0] + live[1]);
   }
-  s.max_live = static_cast<uint32_t>(best);
+  s.max_live_int = static_cast<uint32_t>(best[0]);
+  s.max_live_fp = static_cast<uint32_t>(best[1]);
+  s.max_live = static_cast<uint32_t>(best[2]);
 }
 
 namespace {
@@ -224,6 +233,8 @@ class Machine {
         }
         th_.finish();
         st.max_live_registers = std::max(st.max_live_registers, p.s.max_live);
+        st.max_live_fp_registers = std::max(st.max_live_fp_registers, p.s.max_live_fp);
+        st.max_live_int_registers = std::max(st.max_live_int_registers, p.s.max_live_int);
         st.max_stream_length = std::max<uint64_t>(st.max_stream_length, p.s.code.size());
         p.ready.assign(p.s.nregs, 0);
         p.from_mem.assign(p.s.nregs, 0);

@@ -45,6 +45,11 @@ units::BoxMode parse_box(const std::string& s);  // "plain" | "conservative"
 // "bad --size 'x' (expected WxH or N, 1..16384, e.g. 512x512)".
 void parse_size(const std::string& s, int* w, int* h);
 const char* tri_name(TriAlgo a);
+// Throws std::invalid_argument (one line: what is wrong, what is accepted) unless box is "" or a
+// format eXmY whose every value is one of `format`'s (double/float: e11m52/e8m23), without -ftz.
+void check_box_format(const std::string& box, const std::string& format);
+// x rounded outward into the box format: down (lo) or up (hi); +-INF beyond its range.
+double round_box_bound(const num::Format& box, double x, bool up);
 const char* bvh_name(BvhKind k);
 
 struct RenderOptions {
@@ -54,6 +59,11 @@ struct RenderOptions {
   units::BoxMode box = units::BoxMode::Plain;
   BvhKind bvh = BvhKind::Sah;
   int leaf_size = 4;  // SAH: max triangles per leaf; median: Mirth's max_tris_per_leaf
+  // BVH node boxes stored in a narrower format eXmY (no -ftz; exponent and fraction no wider than
+  // the render format's), each bound rounded outward (lo down, hi up) from the exact box of the
+  // rounded triangles, so the stored box still contains its geometry; "" = the render format's
+  // boxes (exact: min/max of stored vertices). check_box_format validates it.
+  std::string box_format;
   NoiseMode noise = NoiseMode::Float;
   TextureImpl texture = TextureImpl::Shader;
   bool shadows = true;

@@ -707,6 +707,22 @@ Prepared<T> prepare(const scene::Scene& s, const RenderOptions& opt, RenderStats
     return 1 + std::max(dl, dr);
   };
   if (n > 0) P.depth = rec(topo.root);
+  if (!opt.box_format.empty()) {
+    // Boxes stored in the narrower box format: each bound of the exact box rounded outward (a
+    // monotone rounding, so children stay inside their parents), then widened exactly into T.
+    const num::Format bf = num::Format::parse(opt.box_format);
+    auto out = [&](T& x, bool up) {
+      const double d = render::round_box_bound(bf, fp_to_double(x), up);
+      x = fp_cast<T>(d);
+      if (!(fp_to_double(x) == d))
+        throw std::invalid_argument("box format " + opt.box_format + ": a bound is not a value of the render format");
+    };
+    for (auto& nd : P.nodes)
+      for (int c = 0; c < 3; ++c) {
+        out(nd.lo[c], false);
+        out(nd.hi[c], true);
+      }
+  }
   if constexpr (kNative<T>) {
     if (n > 0) build_pairs<T>(P.nodes, P.root, &P.pairs, &P.root_kid);
   }

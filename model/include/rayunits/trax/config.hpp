@@ -3,7 +3,8 @@
 // The schema (every key optional; the defaults are default_config(), documented key by key in
 // model/data/trax/default.toml and docs/TRAX.md):
 //   [chip]      tms, tps_per_tm, clock_mhz ("sta" or MHz), format, tri, box, noise, texture, traversal, bvh,
-//               leaf_size, registers_per_thread, local_store_bytes, framebuffer_bytes_per_pixel
+//               leaf_size, fp_registers_per_thread, int_registers_per_thread, local_store_bytes,
+//               framebuffer_bytes_per_pixel, scene_storage, box_format
 //   [units.NAME] latency, count, width, area (um2 or "synth") | area_nand2 (an estimate in
 //               NAND2-eq)   NAME in unit_names() (per TM: count pipelined units, each accepting
 //               `width` operations per cycle, results after `latency`)
@@ -11,8 +12,9 @@
 //   [local_store] latency
 //   [l1], [l2]  size, banks, line, latency, ways (L1 per TM, L2 shared)
 //   [dram]      latency, bytes_per_cycle
-//   [area]      sram_bit, regfile_bit            (NAND2-equivalents per bit: estimates, charged in
-//               um2 as NAND2-eq x the NAND2X1 cell area of the area table's liberty)
+//   [area]      feature_um, sram_cell_f2, sram_cell_aspect, wire_pitch_f, array_efficiency,
+//               regfile_read_ports, regfile_write_ports, address_bits (the memory model:
+//               CACTI's SRAM cell and its growth per port, docs/TRAX.md "Memories")
 // A bad file gives ConfigError with one line naming the key: "trax config FILE: key
 // 'l1.banks': must be a power of two in 1..1024 (got 3)"; unknown keys are errors too.
 #pragma once
@@ -90,9 +92,19 @@ struct Config {
   std::string traversal = "stack";  // stack | stackless
   std::string bvh = "sah";        // sah | median
   int leaf_size = 4;
-  int registers_per_thread = 128;  // architectural registers (area model)
+  // Register files per thread (area model; the summary reports the registers actually live):
+  // FP registers hold values of the format (its width), integer registers 32 bits.
+  int fp_registers_per_thread = 96;
+  int int_registers_per_thread = 32;
   int local_store_bytes = 512;     // per thread (area model; the stack must fit)
   int framebuffer_bytes_per_pixel = 4;
+  // Scene data in memory: "format" = BVH boxes, vertices, materials and camera packed at the
+  // format's width (value k of a record at bit k x width); "word" = each value in a 32-bit word
+  // (64-bit above 32 bits), the layout before issue 16.
+  std::string scene_storage = "format";
+  // BVH node boxes in a narrower format (render::RenderOptions::box_format: bounds rounded
+  // outward; with scene_storage = "format" a node's box is packed at that width); "" = format.
+  std::string box_format;
   // [units.*]
   std::array<UnitCfg, kUnits> units{};
   // [atomic], [local_store]
@@ -103,9 +115,16 @@ struct Config {
   CacheCfg l2{524288, 8, 64, 3, 1};
   int dram_latency = 100;
   double dram_bytes_per_cycle = 16;
-  // [area]
-  double sram_bit = 1.5;     // 6T cell / 4T NAND2
-  double regfile_bit = 6.0;  // a flip-flop with read/write ports ~ 24 transistors
+  // [area] the memory model (docs/TRAX.md "Memories"): CACTI 6.5's SRAM cell (146 F^2, aspect
+  // 1.46, technology files of HP Labs' CACTI) grown by two local wire pitches per extra port in
+  // each direction (CACTI's Mat), divided by an array efficiency (periphery; an assumption).
+  double feature_um = 0.18;        // F of the cell library (osu018: 0.18 um)
+  double sram_cell_f2 = 146;       // single-ported 6T cell, F^2
+  double sram_cell_aspect = 1.46;  // cell height / width
+  double wire_pitch_f = 2.5;       // local wire pitch, F
+  double array_efficiency = 0.5;   // bit-cell area / array area (assumption)
+  int regfile_read_ports = 2, regfile_write_ports = 1;  // a TP's register files
+  int address_bits = 32;           // cache tags: address bits - index - offset, + a valid bit
   // resolved (resolve_config, not a TOML key): um2 of one NAND2-eq, the NAND2X1 cell area the
   // area table read from its liberty (memories and NAND2-eq unit estimates are charged with it)
   double nand2_um2 = 0;
@@ -113,7 +132,8 @@ struct Config {
   const UnitCfg& unit(Unit u) const { return units[static_cast<int>(u)]; }
   UnitCfg& unit(Unit u) { return units[static_cast<int>(u)]; }
   int threads() const { return tms * tps_per_tm; }
-  int value_bytes() const;  // bytes of one scene value in memory: 4 (<= 32 bits) or 8
+  int value_bits() const;   // bits of one value of the format (FP registers, scene_storage = "format")
+  int value_bytes() const;  // bytes of one word (scene_storage = "word"): 4 (<= 32 bits) or 8
   // Throws ConfigError naming the offending key (source = file name for the message).
   void validate(const std::string& source = "built-in defaults") const;
 };

@@ -67,6 +67,7 @@ struct SimStats {
   CacheStats l1, l2;
   uint64_t dram_read_bytes = 0, dram_write_bytes = 0;
   uint32_t max_live_registers = 0;  // over all streams
+  uint32_t max_live_fp_registers = 0, max_live_int_registers = 0;  // per register file (Stream::fp)
   uint64_t max_stream_length = 0;
   bool stopped = false;     // an IssueObserver stopped the run (co-simulation mismatch)
   uint64_t observed = 0;    // unit operations passed to the IssueObserver

@@ -113,12 +113,17 @@ struct Stream {
   std::vector<uint64_t> data;  // operand records (see kBoxIn), only with keep_operands
   uint32_t nregs = 2;     // registers used: 0 (none), 1 (work item), 2..nregs-1
   uint32_t max_live = 0;  // most registers live at once (a lower bound on the register file)
+  // Registers holding a value of the format (Thread::mark_fp): the FP register file, whose width
+  // is the format's; the others (indices, addresses, predicates, the item) are 32-bit integers.
+  std::vector<uint8_t> fp;
+  uint32_t max_live_fp = 0, max_live_int = 0;  // the same count per register file
   void clear() {
     code.clear();
     srcs.clear();
     data.clear();
+    fp.clear();
     nregs = 2;
-    max_live = 0;
+    max_live = max_live_fp = max_live_int = 0;
   }
 };
 
@@ -151,6 +156,11 @@ class Thread {
     in.dst = has_dst ? s_->nregs++ : 0;
     in.addr = addr;
     s_->code.push_back(in);
+    // FP arithmetic results are values of the format; other producers are marked where a
+    // format value is known to come out (mark_fp: scene loads, BOX/TRI t, conversions to FP)
+    if (op == Op::FAdd || op == Op::FMul || op == Op::FDiv || op == Op::FSqrt || op == Op::Noise ||
+        op == Op::Texture)
+      mark_fp(in.dst);
     return in.dst;
   }
   uint32_t emit(Op op, std::initializer_list<uint32_t> src, bool has_dst = true, uint64_t addr = 0) {
@@ -171,7 +181,16 @@ class Thread {
   // uses read the same register (the compiler's load reuse; scene data is read-only).
   uint32_t load_cached(uint64_t addr);
 
-  // Computes Stream::max_live. Call once after the item's last instruction.
+  // Marks register r as holding a value of the format (the FP register file). Returns r.
+  uint32_t mark_fp(uint32_t r) {
+    if (r) {
+      if (s_->fp.size() <= r) s_->fp.resize(r + 1, 0);
+      s_->fp[r] = 1;
+    }
+    return r;
+  }
+
+  // Computes Stream::max_live (and per register file). Call once after the item's last instruction.
   void finish();
 
   // The thread whose stream TVal operations record into (nullptr: compute only).
@@ -217,7 +236,7 @@ inline TVal result(Op op, num::Soft v, std::initializer_list<const TVal*> src) {
     uint32_t s[4];
     int n = 0;
     for (const TVal* p : src) s[n++] = use(*p);
-    r.reg = t->emit(op, s, n);
+    r.reg = t->mark_fp(t->emit(op, s, n));
   }
   return r;
 }

@@ -25,9 +25,15 @@ struct Area {
   double estimated = 0;                       // um2 of items with estimate = true
 };
 // Functional units with at least one issued operation x count x TMs, plus register files,
-// local stores, L1s and the L2 (docs/TRAX.md "Area model"), in um2. Memories are NAND2-eq per bit
-// x the NAND2X1 cell area (c.nand2_um2): estimates, labelled so.
+// local stores, L1s (data and tags) and the L2 (docs/TRAX.md "Area model"), in um2. Memories come
+// from the memory model (memory_cell_um2): labelled estimates.
 Area area_estimate(const Config& c, const SimStats& st, const std::vector<AreaSource>* sources = nullptr);
+// um2 of one bit cell with rw read/write, r read and w write ports (docs/TRAX.md "Memories"):
+// CACTI's cell, sqrt(A / aspect) F wide and aspect times that high, grown by 2 x wire_pitch_f F per
+// port beyond the first in each direction: h = b_h + 2p(w + rw - 1 + r), w = b_w + 2p(rw - 1 + r + w).
+double memory_cell_um2(const Config& c, int rw, int r, int w);
+// Bits of a cache's data and tag arrays (a valid bit and address_bits - index - offset per line).
+double cache_bits(const Config& c, const CacheCfg& k);
 
 struct TraxResult {
   Config cfg;  // resolved (resolve_config): "rtl" latencies and "synth" areas filled in
@@ -41,6 +47,7 @@ struct TraxResult {
   uint32_t max_stack = 0;     // stack: deepest stack (entries of 8 bytes in the local store)
   size_t bvh_nodes = 0;
   int bvh_depth = 0;
+  uint64_t value_bits = 0, node_bytes = 0, tri_bytes = 0;  // scene data in memory (chip.scene_storage)
   Area area;
   ChipClock clock;  // cfg.clock_mhz and where it came from (STA of the slowest used unit, or configured)
   uint64_t rays() const { return primary_rays + shadow_rays + bounce_rays; }
