@@ -40,7 +40,8 @@ def plot_formats(rows, fig):
     psnr = [min(num(r["psnr_db"]), 99.0) for r in rows]
     err = [num(r["error_pct"]) for r in rows]
     ok = [r["tolerated"] == "yes" for r in rows]
-    ax1 = fig.add_subplot(1, 2, 1)
+    has_dram = bool(rows) and "dram_bytes_per_ray" in rows[0]
+    ax1 = fig.add_subplot(1, 3 if has_dram else 2, 1)
     for x, y, p, good in zip(psnr, per_area, fmts, ok):
         ax1.scatter([x], [y], color="tab:green" if good else "tab:red", s=40, zorder=3)
         ax1.annotate(p, (x, y), textcoords="offset points", xytext=(4, 4), fontsize=8)
@@ -49,7 +50,7 @@ def plot_formats(rows, fig):
     ax1.set_ylabel("k rays/s per mm2")
     ax1.set_title("speed per area vs image quality\n(green: <= 0.1 % error pixels and PSNR >= 40 dB)", fontsize=10)
     ax1.grid(alpha=0.3)
-    ax2 = fig.add_subplot(1, 2, 2)
+    ax2 = fig.add_subplot(1, 3 if has_dram else 2, 2)
     xs = range(len(fmts))
     ax2.bar(xs, [num(r["area_mm2"]) for r in rows], color="tab:blue", alpha=0.6, label="chip area")
     ax2.bar(xs, [num(r["unit_area_mm2"]) for r in rows], color="tab:blue", label="of which units")
@@ -61,6 +62,19 @@ def plot_formats(rows, fig):
     ax3.set_ylabel("pixels more than 10 % off (%)", color="tab:red")
     ax2.legend(loc="upper left", fontsize=8)
     ax2.set_title("area and image error per format", fontsize=10)
+    if has_dram:  # scene data in the format vs 32-bit words (issue 16)
+        ax4 = fig.add_subplot(1, 3, 3)
+        w = 0.4
+        ax4.bar([x - w / 2 for x in xs], [num(r["dram_bytes_per_ray_word"]) for r in rows], w, color="tab:gray",
+                label="scene in 32-bit words")
+        ax4.bar([x + w / 2 for x in xs], [num(r["dram_bytes_per_ray"]) for r in rows], w, color="tab:purple",
+                label="scene in the format")
+        ax4.set_xticks(list(xs))
+        ax4.set_xticklabels(fmts, fontsize=8)
+        ax4.set_ylabel("DRAM bytes per ray")
+        ax4.set_title("DRAM traffic per ray", fontsize=10)
+        ax4.legend(fontsize=8)
+        ax4.grid(axis="y", alpha=0.3)
 
 
 def plot_rays(rows, fig):
@@ -122,7 +136,7 @@ def plot_units(rows, fig):
     ax2.grid(alpha=0.3)
 
 
-PLOTS = {"formats": (plot_formats, (12, 4.8)), "rays": (plot_rays, (12, 3.8)),
+PLOTS = {"formats": (plot_formats, (17, 4.8)), "rays": (plot_rays, (12, 3.8)),
          "traversal": (plot_traversal, (14, 3.6)), "noise": (plot_noise, (12, 3.8)), "units": (plot_units, (12, 4.4)),
          "texture": (plot_texture, (12, 3.8))}
 

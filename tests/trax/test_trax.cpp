@@ -151,6 +151,29 @@ TEST(TraxTiming, LoadMissThenHit) {
 //      TP0: same bank taken -> memory stall (bank conflict)
 //   c4 TP0 load: line in flight -> pending hit, ready 111; TP1 Atomic: no work, halts
 //   c5 TP0 Atomic, halts                                          -> 111 cycles
+// Bank mapping ([l1] interleave): two loads in the same cycle (as in BankConflictThenPendingHit)
+// to 0x2000 and 0x2004 share line 0x2000 -- one bank when line-interleaved (a conflict), banks 0
+// and 1 when word-interleaved (4-byte words: 0x800 mod 4 = 0, 0x801 mod 4 = 1); 0x2000 and 0x2040
+// are banks 0 and 1 by line but both bank 0 by word (0x810 mod 4 = 0).
+TEST(TraxTiming, WordInterleavedBanks) {
+  struct Case {
+    bool word;
+    uint64_t second;
+    uint64_t conflicts;
+  };
+  for (const Case& k : {Case{false, 0x2004, 1}, Case{true, 0x2004, 0}, Case{false, 0x2040, 0}, Case{true, 0x2040, 1}}) {
+    Config c = tiny(2);
+    c.unit(Unit::FpAdd).latency = 1;
+    c.l1.word_interleave = k.word;
+    FunctionWork w(2, [&](uint64_t item, Thread& t) {
+      uint32_t r = t.emit(Op::FAdd, {Thread::kItemReg});
+      if (item == 0) r = t.emit(Op::FAdd, {r});
+      t.load(item == 0 ? 0x2000 : k.second, r);
+    });
+    EXPECT_EQ(simulate(c, w).bank_conflicts, k.conflicts) << (k.word ? "word " : "line ") << std::hex << k.second;
+  }
+}
+
 TEST(TraxTiming, BankConflictThenPendingHit) {
   Config c = tiny(2);
   c.unit(Unit::FpAdd).latency = 1;

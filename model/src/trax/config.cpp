@@ -72,7 +72,10 @@ void read_cache(const Reader& R, const toml::table& t, const std::string& sec, C
     else if (k == "line") c.line = static_cast<int>(R.integer(v, key, 4, 4096));
     else if (k == "latency") c.latency = static_cast<int>(R.integer(v, key, 1, 100000));
     else if (k == "ways") c.ways = static_cast<int>(R.integer(v, key, 1, 1024));
-    else R.fail(key, "unknown key (accepted in [" + sec + "]: size, banks, line, latency, ways)");
+    else if (k == "interleave" && sec == "l1") c.word_interleave = R.choice(v, key, {"line", "word"}) == "word";
+    else
+      R.fail(key, "unknown key (accepted in [" + sec + "]: size, banks, line, latency, ways" +
+                      (sec == "l1" ? ", interleave)" : ")"));
   }
 }
 
@@ -364,6 +367,7 @@ std::string to_toml(const Config& c) {
   for (const auto* p : {&c.l1, &c.l2}) {
     o << "\n[" << (p == &c.l1 ? "l1" : "l2") << "]\nsize = " << p->size << "\nbanks = " << p->banks
       << "\nline = " << p->line << "\nlatency = " << p->latency << "\nways = " << p->ways << "\n";
+    if (p == &c.l1) o << "interleave = \"" << (p->word_interleave ? "word" : "line") << "\"\n";
   }
   o << "\n[dram]\nlatency = " << c.dram_latency << "\nbytes_per_cycle = " << fmt_num(c.dram_bytes_per_cycle)
     << (std::floor(c.dram_bytes_per_cycle) == c.dram_bytes_per_cycle ? ".0" : "") << "\n";

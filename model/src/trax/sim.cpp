@@ -307,7 +307,7 @@ class Machine {
         is_mem = true;
         switch (in.op) {
           case Op::Load: {
-            uint8_t& b = tm.bank_used[(in.addr / cfg_.l1.line) % cfg_.l1.banks];
+            uint8_t& b = tm.bank_used[(in.addr / (cfg_.l1.word_interleave ? 4 : cfg_.l1.line)) % cfg_.l1.banks];
             if (b) {
               ++st.stall_memory;
               ++st.bank_conflicts;

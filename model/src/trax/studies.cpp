@@ -1,6 +1,7 @@
 // TRaX model studies (issue 7 section 5); see rayunits/trax/studies.hpp.
 #include "rayunits/trax/studies.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <sstream>
@@ -52,7 +53,9 @@ StudyTable formats(const scene::Scene& s, const StudyOptions& o) {
             std::to_string(o.height) + ")";
   t.cols = {"format", "bits", "cycles", "clock_mhz", "clock_unit", "rays", "rays_per_s", "area_mm2",
             "unit_area_mm2", "estimated_mm2", "rays_per_s_per_mm2", "rays_per_s_per_unit_mm2", "error_pixels", "error_pct", "psnr_db",
-            "tolerated", "box_latency", "tri_latency", "box_area_source", "tri_area_source", "clock_source"};
+            "tolerated", "box_latency", "tri_latency", "box_area_source", "tri_area_source", "clock_source",
+            "memory_mm2", "value_bits", "node_bytes", "tri_bytes", "l1_hit_pct", "l2_hit_pct", "dram_bytes_per_ray",
+            "cycles_word", "dram_bytes_per_ray_word"};
   Config rc = o.base;
   render::RenderOptions ro = render_options(rc, o.width, o.height);
   ro.format = "double";
@@ -60,11 +63,24 @@ StudyTable formats(const scene::Scene& s, const StudyOptions& o) {
   say(o, "reference render in double");
   const render::Image ref = render::render(s, ro);
   const auto& list = o.formats.empty() ? kDefaultFormats : o.formats;
+  struct Point {
+    std::string format;
+    int bits;
+    bool ok;
+    double clock, cycles, cycles_word, units, memories, per_area;
+  };
+  std::vector<Point> pts;
   for (const std::string& fm : list) {
     Config c = o.base;
     c.format = fm;
     say(o, "format " + fm);
     const TraxResult r = run_trax(s, c, o.width, o.height, quiet_run());
+    Config cw = c;  // the same chip with the scene in 32-bit words (the layout before issue 16)
+    cw.scene_storage = "word";
+    const TraxResult w = c.scene_storage == "word" ? r : run_trax(s, cw, o.width, o.height, quiet_run());
+    auto dram_per_ray = [](const TraxResult& x) {
+      return f(double(x.sim.dram_read_bytes + x.sim.dram_write_bytes) / double(std::max<uint64_t>(1, x.rays())), "%.1f");
+    };
     const render::ImageDiff d = render::compare(r.image, ref);
     const double pct = d.pixels ? 100.0 * double(d.errors) / double(d.pixels) : 0;
     const bool ok = pct <= 0.1 && d.psnr >= 40.0;
@@ -73,17 +89,54 @@ StudyTable formats(const scene::Scene& s, const StudyOptions& o) {
                       f(r.rays_per_second()), mm2(r.area.total), mm2(r.area.units), mm2(r.area.estimated),
                       f(per_area(r)), f(r.area.units > 0 ? r.rays_per_second() / (r.area.units / 1e6) : 0), i(d.errors), f(pct, "%.3f"), f(d.psnr, "%.2f"), ok ? "yes" : "no",
                       i(r.cfg.unit(Unit::Box).latency), i(r.cfg.unit(Unit::Tri).latency), source_of(r, "ray_box"),
-                      source_of(r, r.cfg.tri == "mt" ? "ray_tri_mt" : "ray_tri_robust"), r.clock.how});
+                      source_of(r, r.cfg.tri == "mt" ? "ray_tri_mt" : "ray_tri_robust"), r.clock.how,
+                      mm2(r.area.memories), i(r.value_bits), i(r.node_bytes), i(r.tri_bytes),
+                      f(100 * r.sim.l1.hit_rate(), "%.2f"), f(100 * r.sim.l2.hit_rate(), "%.2f"), dram_per_ray(r),
+                      i(w.sim.cycles), dram_per_ray(w)});
+    pts.push_back({fm, F.width(), ok, r.cfg.clock_mhz, double(r.sim.cycles), double(w.sim.cycles), r.area.units,
+                   r.area.memories, per_area(r)});
+  }
+  // Where the smallest tolerated format's gain over the widest comes from: rays/s per mm2 =
+  // clock x (1 / cycles) x (1 / area), so the gain is the product of the three ratios; the cycle
+  // ratio splits into the packed scene data's part (against the word layout) and the rest, the
+  // area ratio into units and memories in proportion to the mm2 each saves. Shares: of the log.
+  std::string gain;
+  const Point* small = nullptr;
+  const Point* wide = nullptr;
+  for (const Point& p : pts) {
+    if (p.ok && (!small || p.bits < small->bits)) small = &p;
+    if (!wide || p.bits > wide->bits) wide = &p;
+  }
+  if (small && wide && small != wide && small->per_area > 0 && wide->per_area > 0) {
+    const double total = small->per_area / wide->per_area, clock = small->clock / wide->clock,
+                 cycles = wide->cycles / small->cycles,
+                 layout = cycles / (wide->cycles_word / small->cycles_word),
+                 area = (wide->units + wide->memories) / (small->units + small->memories);
+    const double du = wide->units - small->units, dm = wide->memories - small->memories;
+    const double lt = std::log(total);
+    auto pct = [&](double x) { return f(100 * x / lt, "%.0f") + " %"; };
+    const double la = std::log(area), lu = du + dm != 0 ? la * du / (du + dm) : 0, lm = la - lu;
+    gain = " Gain of " + small->format + " (the smallest tolerated) over " + wide->format + ": " + f(total, "%.2f") +
+           "x rays/s per mm2 = clock " + f(clock, "%.2f") + "x * cycles " + f(cycles, "%.2f") + "x (packed scene data " +
+           f(layout, "%.2f") + "x, the rest " + f(cycles / layout, "%.2f") + "x) * area " + f(area, "%.2f") +
+           "x (units " + f(-du / 1e6, "%+.1f") + " mm2, memories " + f(-dm / 1e6, "%+.1f") +
+           " mm2). Shares of the log of the gain: clock " + pct(std::log(clock)) + ", packed scene data (bandwidth) " +
+           pct(std::log(layout)) + ", other cycles " + pct(std::log(cycles / layout)) + ", units' area " + pct(lu) +
+           ", memories' area " + pct(lm) + ".";
   }
   t.note = "Every FP operation, the box/triangle units and the noise unit compute in the format; the image error is "
            "against the same renderer in double (pixels with a channel more than 10 % off; PSNR, peak 1). "
            "\"tolerated\": <= 0.1 % error pixels and PSNR >= 40 dB (the target of `rayunits profile`). Area (mm2): "
            "units (osu018 cell area before placement from model/data/trax/areas.json: measured rows, box/tri "
            "composed from the FP rows where not measured) plus register files, local stores and caches "
-           "(estimates: NAND2-eq per bit x the liberty's NAND2X1 area; estimated_mm2 = every estimated item; "
-           "rays_per_s_per_unit_mm2 counts the functional units only); "
+           "(memory_mm2: the memory model of docs/TRAX.md, CACTI's SRAM cell grown per port over an assumed array "
+           "efficiency, an estimate; FP registers at the format's width; estimated_mm2 = every estimated item; "
+           "rays_per_s_per_unit_mm2 counts the functional units only); scene data stored in the format "
+           "(value_bits per value, node_bytes per BVH node, tri_bytes per triangle; cache hit rates and DRAM bytes "
+           "per ray of that layout), cycles_word and dram_bytes_per_ray_word: the same chip with every scene value "
+           "in a 32-bit word (chip.scene_storage = \"word\", the layout before issue 16); "
            "rays/s at the chip clock = the STA Fmax of the slowest used unit at its Stages (clock_unit; "
-           "clock_source says whether it is measured or estimated), docs/TRAX.md.";
+           "clock_source says whether it is measured or estimated), docs/TRAX.md." + gain;
   return t;
 }
 

@@ -10,7 +10,7 @@
 //               `width` operations per cycle, results after `latency`)
 //   [atomic]    latency                          (one chip-wide atomic-increment unit, 1/cycle)
 //   [local_store] latency
-//   [l1], [l2]  size, banks, line, latency, ways (L1 per TM, L2 shared)
+//   [l1], [l2]  size, banks, line, latency, ways (L1 per TM, L2 shared); [l1] interleave (line | word)
 //   [dram]      latency, bytes_per_cycle
 //   [area]      feature_um, sram_cell_f2, sram_cell_aspect, wire_pitch_f, array_efficiency,
 //               regfile_read_ports, regfile_write_ports, address_bits (the memory model:
@@ -73,6 +73,9 @@ struct CacheCfg {
   int line = 64;      // bytes
   int latency = 1;    // hit latency (cycles)
   int ways = 1;       // associativity (LRU)
+  // L1 only: how addresses map to banks: false = line-interleaved (bank = line address mod banks),
+  // true = word-interleaved (bank = 4-byte word address mod banks, simtrax's L1Cache)
+  bool word_interleave = false;
 };
 
 struct Config {
