@@ -75,7 +75,8 @@ struct AreaTable {
 };
 // A cell-flow row as `rayunits trax areas` writes it (the fields the model reads).
 std::string row(const char* unit, const char* fmt, int stages, double area, double fmax = 100) {
-  const bool noise = std::strncmp(unit, "noise", 5) == 0 || std::strcmp(unit, "texture") == 0;  // no format
+  const bool noise = std::strncmp(unit, "noise", 5) == 0 || std::strcmp(unit, "texture") == 0 ||
+                     std::strcmp(unit, "int_alu") == 0 || std::strcmp(unit, "branch") == 0;  // no format
   return std::string("{\"unit\": \"") + unit + "\", \"format\": " + (noise ? "null" : "\"" + std::string(fmt) + "\"") +
          ", \"stages\": " + std::to_string(stages) + ", \"flow\": \"osu018\", \"area_um2\": " + std::to_string(area) +
          ", \"fmax_mhz\": " + std::to_string(fmax) + ", \"command\": \"rayunits synth " + unit +
@@ -91,7 +92,9 @@ std::string fp_rows() {
   return row("fp_add", "e8m23", 2, 100, 200) + ", " + row("fp_mul", "e8m23", 2, 1000, 150) + ", " +
          row("fp_div", "e8m23", 16, 5000, 300) + ", " + row("fp_sqrt", "e8m23", 16, 2500, 320) + ", " +
          row("fp_cmp", "e8m23", 1, 10, 400) + ", " + row("noise_trunc", "-", 4, 777, 120) + ", " +
-         row("noise", "-", 4, 1234, 110) + ", " + row("texture", "-", 4, 4321, 150);
+         row("noise", "-", 4, 1234, 110) + ", " + row("texture", "-", 4, 4321, 150) + ", " +
+         row("fp_cvt", "e8m23", 1, 60, 500) + ", " + row("int_alu", "-", 1, 40, 600) + ", " +
+         row("branch", "-", 1, 20, 700);
 }
 std::string resolve_error(const std::string& json, const Config& c = default_config()) {
   AreaTable t("areas_err.json", json);
@@ -122,23 +125,38 @@ TEST(TraxAreas, MeasuredComposedAndScaledRows) {
   EXPECT_EQ(r.unit(Unit::Noise).area, 777);  // noise_trunc's row (chip.noise = fixed-trunc)
   EXPECT_EQ(r.unit(Unit::Box).area, 6670);
   EXPECT_EQ(r.unit(Unit::Tri).area, 58500);
-  EXPECT_EQ(r.unit(Unit::Conv).area, 15000);  // 1500 NAND2-eq x 10 um2: an estimate
+  EXPECT_EQ(r.unit(Unit::Conv).area, 60);  // ru_fp_cvt's row (issue 16; int, branch likewise)
+  EXPECT_EQ(r.unit(Unit::Int).area, 40);
+  EXPECT_EQ(r.unit(Unit::Branch).area, 20);
   EXPECT_EQ(r.unit(Unit::Box).fmax_mhz, 150);
   EXPECT_EQ(r.unit(Unit::Tri).fmax_mhz, 150);
-  EXPECT_EQ(r.unit(Unit::Conv).fmax_mhz, 0);  // not timed
+  EXPECT_EQ(r.unit(Unit::Conv).fmax_mhz, 500);
   EXPECT_EQ(r.clock_mhz, 120);
   EXPECT_EQ(r.nand2_um2, 10);
   ASSERT_EQ(src.size(), size_t(kUnits));
   EXPECT_EQ(src[int(Unit::Box)].how, "composed");
   EXPECT_EQ(src[int(Unit::FpAdd)].how, "measured");
-  EXPECT_EQ(src[int(Unit::Conv)].how, "estimate");
-  EXPECT_NE(src[int(Unit::Conv)].detail.find("1500 NAND2-eq"), std::string::npos) << src[int(Unit::Conv)].detail;
+  EXPECT_EQ(src[int(Unit::Conv)].how, "measured");
+  EXPECT_EQ(src[int(Unit::Int)].unit, "int_alu");
+  {  // an area_nand2 estimate is still accepted: NAND2-eq x NAND2X1 (10 um2 here), not timed
+    Config e = c;
+    e.unit(Unit::Conv).area = kAreaNand2;
+    e.unit(Unit::Conv).area_nand2 = 1500;
+    std::vector<AreaSource> es;
+    const Config er = resolve_config(e, &es);
+    EXPECT_EQ(er.unit(Unit::Conv).area, 15000);
+    EXPECT_EQ(er.unit(Unit::Conv).fmax_mhz, 0);
+    EXPECT_EQ(es[int(Unit::Conv)].how, "estimate");
+    EXPECT_NE(es[int(Unit::Conv)].detail.find("1500 NAND2-eq"), std::string::npos) << es[int(Unit::Conv)].detail;
+  }
   c.tri = "mt";
   EXPECT_EQ(resolve_config(c).unit(Unit::Tri).area, 34450);
   c.format = "e5m10";
   r = resolve_config(c);
   EXPECT_DOUBLE_EQ(r.unit(Unit::FpAdd).area, 50);
   EXPECT_DOUBLE_EQ(r.unit(Unit::FpCmp).area, 5);
+  EXPECT_DOUBLE_EQ(r.unit(Unit::Conv).area, 30);  // scaled by width from the e8m23 row
+  EXPECT_DOUBLE_EQ(r.unit(Unit::Int).area, 40);   // no format: the same row
   EXPECT_NEAR(r.unit(Unit::FpMul).area, 1000.0 * 121 / 576, 1e-9);
   EXPECT_NEAR(r.unit(Unit::FpDiv).area, 5000.0 * 121 / 576, 1e-9);
   EXPECT_NEAR(r.unit(Unit::FpSqrt).area, 2500.0 * 121 / 576, 1e-9);  // e5m10's maximum 13, from Stages 16
@@ -163,7 +181,9 @@ TEST(TraxAreas, ChipNoiseSelectsItsUnitsRow) {
   EXPECT_EQ(src[int(Unit::Noise)].unit, "noise");
   const std::string m = resolve_error(table_json(row("fp_add", "e8m23", 2, 100, 200) + ", " + row("fp_mul", "e8m23", 2, 1000, 150) + ", " +
                                                  row("fp_div", "e8m23", 16, 5000, 300) + ", " + row("fp_sqrt", "e8m23", 16, 2500, 320) + ", " +
-                                                 row("fp_cmp", "e8m23", 1, 10, 400) + ", " + row("noise", "-", 4, 1234, 110)));
+                                                 row("fp_cmp", "e8m23", 1, 10, 400) + ", " + row("fp_cvt", "e8m23", 1, 60, 500) + ", " +
+                                                 row("int_alu", "-", 1, 40, 600) + ", " + row("branch", "-", 1, 20, 700) + ", " +
+                                                 row("noise", "-", 4, 1234, 110)));
   EXPECT_NE(m.find("no row for noise_trunc Stages 4"), std::string::npos) << m;
   EXPECT_NE(m.find("--units noise_trunc"), std::string::npos) << m;
 }
@@ -218,7 +238,7 @@ TEST(TraxAreas, MalformedTableIsOneLineNamingTheRow) {
   std::string wrong_unit = row("fp_mul", "e8m23", 2, 1000);
   wrong_unit.replace(wrong_unit.find("\"unit\": \"fp_mul\""), 16, "\"unit\": \"fp_add\"");
   one_line(resolve_error(table_json(good + ", " + wrong_unit)),
-           "row 9 (fp_add e8m23 Stages 2): command synthesizes 'fp_mul', the row says unit 'fp_add'");
+           "row 12 (fp_add e8m23 Stages 2): command synthesizes 'fp_mul', the row says unit 'fp_add'");
   // a row whose format differs from its command's
   std::string wrong_fmt = row("fp_add", "e7m16", 2, 100);
   wrong_fmt.replace(wrong_fmt.find("\"format\": \"e7m16\""), 17, "\"format\": \"e8m23\"");
@@ -234,7 +254,7 @@ TEST(TraxAreas, MalformedTableIsOneLineNamingTheRow) {
   one_line(resolve_error(table_json(row("fp_add", "e8m23", 2, 100, 0))), "no number \"fmax_mhz\" > 0");
   one_line(resolve_error(table_json(row("fp_dot3", "e8m23", 2, 100))), "unit 'fp_dot3' is not a TRaX unit");
   one_line(resolve_error(table_json(good + ", " + row("fp_add", "e8m23", 2, 100))),
-           "row 9: a second row for fp_add|e8m23|2 in flow osu018");
+           "row 12: a second row for fp_add|e8m23|2 in flow osu018");
   one_line(resolve_error(table_json(row("fp_add", "e9m99", 2, 100))), "row 1 (fp_add e9m99 Stages 2): format:");
   one_line(resolve_error("{\"rows\": [" + good + "]}"), "no \"nand2_cell\"");
   one_line(resolve_error("{\"rows\": [" + good), "not JSON");
@@ -275,7 +295,9 @@ TEST(TraxAreas, CheckedInTableIsComplete) {
     c.format = f;
     std::vector<AreaSource> src;
     const Config r = resolve_config(c, &src);
-    for (Unit u : {Unit::FpAdd, Unit::FpMul, Unit::FpDiv, Unit::FpCmp, Unit::Box, Unit::Noise})
+    // every unit but the triangle unit (composed at most formats) measured: no estimate left
+    for (Unit u : {Unit::FpAdd, Unit::FpMul, Unit::FpDiv, Unit::FpSqrt, Unit::FpCmp, Unit::Conv, Unit::Int,
+                   Unit::Branch, Unit::Box, Unit::Noise})
       EXPECT_EQ(src[int(u)].how, "measured") << f << " " << unit_name(u);
     EXPECT_GT(r.clock_mhz, 0) << f;
   }
@@ -285,14 +307,13 @@ TEST(TraxAreas, CheckedInTableIsComplete) {
     std::vector<AreaSource> src;
     const Config r = resolve_config(c, &src);
     double slowest = 0;
-    for (Unit u : {Unit::FpAdd, Unit::FpMul, Unit::FpDiv, Unit::FpSqrt, Unit::FpCmp, Unit::Box, Unit::Tri,
-                   Unit::Noise}) {
+    for (Unit u : {Unit::FpAdd, Unit::FpMul, Unit::FpDiv, Unit::FpSqrt, Unit::FpCmp, Unit::Conv, Unit::Int,
+                   Unit::Branch, Unit::Box, Unit::Tri, Unit::Noise}) {
       EXPECT_EQ(src[int(u)].how, "measured")
           << tri << " " << unit_name(u);
       EXPECT_GT(r.unit(u).fmax_mhz, 0);
       if (slowest == 0 || r.unit(u).fmax_mhz < slowest) slowest = r.unit(u).fmax_mhz;
     }
-    EXPECT_EQ(r.unit(Unit::Conv).fmax_mhz, 0);  // estimates are not timed
     EXPECT_EQ(r.clock_mhz, slowest) << tri;
   }
   {  // the baseline noise unit (chip.noise = fixed) is measured too
@@ -340,7 +361,8 @@ TEST(TraxConfig, RtlAndSynthKeywords) {
   EXPECT_EQ(msg("[units.box]\nlatency = \"rtl\"\narea = \"synth\"\n"), "");
   EXPECT_EQ(parse_config("[units.tri]\nlatency = 12\n", "t").unit(Unit::Tri).latency, 12);
   EXPECT_NE(msg("[units.fp_add]\nlatency = \"rtl\"\n").find("key 'units.fp_add.latency'"), std::string::npos);
-  EXPECT_NE(msg("[units.conv]\narea = \"synth\"\n").find("key 'units.conv.area'"), std::string::npos);
+  EXPECT_EQ(msg("[units.conv]\narea = \"synth\"\n"), "");  // every unit has RTL since issue 16
+  EXPECT_NE(msg("[units.conv]\nlatency = \"rtl\"\n").find("key 'units.conv.latency'"), std::string::npos);
   EXPECT_NE(msg("[units.box]\nlatency = \"fast\"\n").find("key 'units.box.latency'"), std::string::npos);
   // the chip clock: "sta" (default) or MHz; NAND2-eq estimates: area_nand2, not together with area
   EXPECT_EQ(default_config().clock_mhz, kClockSta);
@@ -608,7 +630,9 @@ TEST(LongTraxAreas, MeasuresResumesAndReproducesTheCheckedInRows) {
   setenv("RU_TRAX_AREAS", out.c_str(), 1);
   Config c = default_config();
   c.format = "e5m6";
-  for (Unit u : {Unit::FpMul, Unit::FpDiv, Unit::FpSqrt, Unit::Box, Unit::Tri, Unit::Noise, Unit::Texture}) c.unit(u).area = 1;
+  for (Unit u : {Unit::FpMul, Unit::FpDiv, Unit::FpSqrt, Unit::Conv, Unit::Int, Unit::Branch, Unit::Box, Unit::Tri,
+                 Unit::Noise, Unit::Texture})
+    c.unit(u).area = 1;
   const Config rc = resolve_config(c);
   EXPECT_EQ(rc.unit(Unit::FpAdd).area, fresh.at("rows")[0].at("area_um2").get<double>());
   EXPECT_EQ(rc.clock_mhz, fresh.at("rows")[0].at("fmax_mhz").get<double>());  // fp_add is slower than fp_cmp
@@ -617,7 +641,8 @@ TEST(LongTraxAreas, MeasuresResumesAndReproducesTheCheckedInRows) {
   r = trax_areas("--units fp_add,fp_dot3 --out '" + out + "'");
   EXPECT_EQ(r.code, 2);
   EXPECT_EQ(r.err, "rayunits trax areas: error: --units: 'fp_dot3' is not a TRaX unit (accepted: fp_add, fp_mul, "
-                   "fp_div, fp_sqrt, fp_cmp, ray_box, ray_tri_robust, ray_tri_mt, noise_trunc, noise, texture)\n");
+                   "fp_div, fp_sqrt, fp_cmp, fp_cvt, int_alu, branch, ray_box, ray_tri_robust, ray_tri_mt, noise_trunc, "
+                   "noise, texture)\n");
   r = trax_areas("--flow osu999 --out '" + out + "'");
   EXPECT_EQ(r.code, 2);
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;

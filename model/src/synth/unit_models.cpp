@@ -10,6 +10,7 @@
 #include "rayunits/noise/fixed.hpp"
 #include "rayunits/num/fp.hpp"
 #include "rayunits/num/patterns.hpp"
+#include "rayunits/units/int_units.hpp"
 #include "rayunits/units/ray_box.hpp"
 #include "rayunits/units/ray_tri.hpp"
 #include "rayunits/units/ray_tri_cheap.hpp"
@@ -499,6 +500,61 @@ InputGen texture_inputs(const UnitConfig& c, uint64_t seed) {
     const uint64_t r = rng->next();
     in[3] = (r & 15) < 14 ? (r >> 4) % 5 : (r >> 4) & 7;
     in[4] = ((r >> 8) & 3) == 0 ? (r >> 10) & 15 : static_cast<uint64_t>(oct);
+  };
+}
+
+// ---- integer units -----------------------------------------------------------------------------
+
+namespace {
+// A w-bit operand: an edge word (0, +-1, the range ends, +-2^k, small shift amounts) or random.
+uint64_t int_operand(util::Xoshiro256ss& rng, int w) {
+  const uint64_t m = units::int_mask(w);
+  switch (util::bounded_lemire(rng, 8)) {
+    case 0: {
+      const uint64_t edges[] = {0, 1, m, m >> 1, (m >> 1) + 1, 2};
+      return edges[util::bounded_lemire(rng, 6)] & m;
+    }
+    case 1: return (1ull << util::bounded_lemire(rng, static_cast<uint64_t>(w))) & m;
+    case 2: return (0 - (1ull << util::bounded_lemire(rng, static_cast<uint64_t>(w)))) & m;
+    case 3: return util::bounded_lemire(rng, static_cast<uint64_t>(2 * w + 2));  // shift amounts around w
+    default: return rng.next() & m;
+  }
+}
+}  // namespace
+
+GoldenEval int_alu_golden(const UnitConfig& c) {
+  const int w = param_or(c, "IntW", 32);
+  return [w](const uint64_t* in, uint64_t* out) { out[0] = units::int_alu(w, static_cast<unsigned>(in[2]), in[0], in[1]); };
+}
+
+InputGen int_alu_inputs(const UnitConfig& c, uint64_t seed) {
+  const int w = param_or(c, "IntW", 32);
+  auto rng = std::make_shared<util::Xoshiro256ss>(seed);
+  return [rng, w](uint64_t* in) {
+    in[0] = int_operand(*rng, w);
+    in[1] = util::bounded_lemire(*rng, 8) == 0 ? in[0] : int_operand(*rng, w);
+    in[2] = util::bounded_lemire(*rng, 16);  // every op code, the mov aliases 12..15 included
+  };
+}
+
+GoldenEval branch_golden(const UnitConfig& c) {
+  const int w = param_or(c, "IntW", 32), pw = param_or(c, "PcW", 32);
+  return [w, pw](const uint64_t* in, uint64_t* out) {
+    const units::BranchResult r = units::branch(w, pw, static_cast<unsigned>(in[4]), in[0], in[1], in[2], in[3]);
+    out[0] = r.taken;
+    out[1] = r.next;
+  };
+}
+
+InputGen branch_inputs(const UnitConfig& c, uint64_t seed) {
+  const int w = param_or(c, "IntW", 32), pw = param_or(c, "PcW", 32);
+  auto rng = std::make_shared<util::Xoshiro256ss>(seed);
+  return [rng, w, pw](uint64_t* in) {
+    in[0] = int_operand(*rng, w);
+    in[1] = util::bounded_lemire(*rng, 4) == 0 ? in[0] : int_operand(*rng, w);
+    in[2] = int_operand(*rng, pw);
+    in[3] = int_operand(*rng, pw);
+    in[4] = util::bounded_lemire(*rng, 8);
   };
 }
 

@@ -560,6 +560,58 @@ std::vector<UnitSpec> make_units() {
                     "s5:Units=2:Octaves=5:FracBits=12:IntBits=4:OutW=20"};
     u.push_back(std::move(s));
   }
+  // The thread processors' integer units (issue 16: the TRaX chip's int and branch instruction
+  // classes on units with RTL; golden models units/int_units.hpp). No floating-point format.
+  {
+    UnitSpec s;
+    s.name = "int_alu";
+    s.top = "ru_int_alu";
+    s.summary = "integer ALU: add, sub, and, or, xor, shifts, set-less-than, min/max (IntW bits)";
+    s.filelist = "ru_int_alu.f";
+    s.uses_format = false;
+    s.params = {{"Stages", [](const UnitConfig& c) { return static_cast<long long>(c.stages); }}};
+    s.extra_params = {{"IntW", 32, 2, 64, "word width (two's complement)"}};
+    s.ports = control_ports();
+    for (PortSpec p : {in("a_i", "IntW", "operand a"), in("b_i", "IntW", "operand b (shifts: the amount, low clog2(IntW) bits)"),
+                       enum_in("op_i", "4", "0 add, 1 sub, 2 and, 3 or, 4 xor, 5 sll, 6 srl, 7 sra, 8 slt, 9 sltu, 10 min, "
+                                            "11 max, 12-15 mov (a)",
+                               {"add", "sub", "and", "or", "xor", "sll", "srl", "sra", "slt", "sltu", "min", "max", "mov",
+                                "mov13", "mov14", "mov15"}),
+                       out_valid(), out("y_o", "IntW", "result")})
+      s.ports.push_back(std::move(p));
+    s.max_stages_expr = "1";
+    s.golden = models::int_alu_golden;
+    s.random_inputs = models::int_alu_inputs;
+    s.tests = {"s1:selftest", "s0:IntW=4:exhaustive", "smax+1:IntW=64", "s1:IntW=5:exhaustive"};
+    s.long_tests = {"s0", "s2", "s1:IntW=8:exhaustive", "s0:IntW=2:exhaustive", "s1:IntW=16", "s3:IntW=33"};
+    u.push_back(std::move(s));
+  }
+  {
+    UnitSpec s;
+    s.name = "branch";
+    s.top = "ru_branch";
+    s.summary = "branch unit: beq/bne/blt/bge/bltu/bgeu/jump on IntW-bit registers, next PcW-bit pc";
+    s.filelist = "ru_branch.f";
+    s.uses_format = false;
+    s.params = {{"Stages", [](const UnitConfig& c) { return static_cast<long long>(c.stages); }}};
+    s.extra_params = {{"IntW", 32, 2, 64, "register width (two's complement)"},
+                      {"PcW", 32, 2, 64, "program counter width (in instructions)"}};
+    s.ports = control_ports();
+    for (PortSpec p : {in("a_i", "IntW", "register a"), in("b_i", "IntW", "register b"),
+                       in("pc_i", "PcW", "program counter of the branch"),
+                       in("off_i", "PcW", "branch offset (two's complement, in instructions)"),
+                       enum_in("op_i", "3", "0 beq, 1 bne, 2 blt, 3 bge, 4 bltu, 5 bgeu, 6-7 jump",
+                               {"beq", "bne", "blt", "bge", "bltu", "bgeu", "jump", "jump7"}),
+                       out_valid(), out("taken_o", "1", "the branch is taken"),
+                       out("y_o", "PcW", "next pc: taken ? pc + off : pc + 1")})
+      s.ports.push_back(std::move(p));
+    s.max_stages_expr = "1";
+    s.golden = models::branch_golden;
+    s.random_inputs = models::branch_inputs;
+    s.tests = {"s1:selftest", "s0:IntW=3:PcW=3:exhaustive", "smax+1:IntW=64:PcW=64"};
+    s.long_tests = {"s0", "s2", "s1:IntW=4:PcW=4:exhaustive", "s1:IntW=2:PcW=5:exhaustive", "s0:IntW=16:PcW=20"};
+    u.push_back(std::move(s));
+  }
   return u;
 }
 

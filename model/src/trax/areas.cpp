@@ -271,8 +271,10 @@ const Row& fp_row_at(const Loaded& T, const Config& c, const char* unit, Unit wh
 }  // namespace
 
 const std::vector<std::string>& area_table_units() {
-  static const std::vector<std::string> u = {"fp_add", "fp_mul", "fp_div", "fp_sqrt", "fp_cmp", "ray_box",
-                                             "ray_tri_robust", "ray_tri_mt", "noise_trunc", "noise", "texture"};
+  static const std::vector<std::string> u = {"fp_add",  "fp_mul",     "fp_div",         "fp_sqrt",
+                                             "fp_cmp",  "fp_cvt",     "int_alu",        "branch",
+                                             "ray_box", "ray_tri_robust", "ray_tri_mt", "noise_trunc",
+                                             "noise",   "texture"};
   return u;
 }
 
@@ -282,6 +284,9 @@ Unit area_table_unit(const std::string& u) {
   if (u == "fp_div") return Unit::FpDiv;
   if (u == "fp_sqrt") return Unit::FpSqrt;
   if (u == "fp_cmp") return Unit::FpCmp;
+  if (u == "fp_cvt") return Unit::Conv;
+  if (u == "int_alu") return Unit::Int;
+  if (u == "branch") return Unit::Branch;
   if (u == "ray_box") return Unit::Box;
   if (u == "noise" || u == "noise_trunc") return Unit::Noise;
   if (u == "texture") return Unit::Texture;
@@ -401,6 +406,9 @@ Config resolve_config(const Config& in, std::vector<AreaSource>* sources) {
       case Unit::FpDiv: sunit = "fp_div"; break;
       case Unit::FpSqrt: sunit = "fp_sqrt"; break;
       case Unit::FpCmp: sunit = "fp_cmp"; break;
+      case Unit::Conv: sunit = "fp_cvt"; break;
+      case Unit::Int: sunit = "int_alu"; break;
+      case Unit::Branch: sunit = "branch"; break;
       case Unit::Box: sunit = "ray_box"; break;
       case Unit::Tri: sunit = c.tri == "mt" ? "ray_tri_mt" : "ray_tri_robust"; break;
       case Unit::Noise: sunit = noise_unit(c); break;
@@ -415,7 +423,8 @@ Config resolve_config(const Config& in, std::vector<AreaSource>* sources) {
                           std::to_string(def) + " (units.texture.width = " + std::to_string(k.width) +
                           "): give units.texture.area a number");
     }
-    const std::string f = u == Unit::Noise || u == Unit::Texture ? "-" : fmt;
+    const bool fmtless = u == Unit::Noise || u == Unit::Texture || u == Unit::Int || u == Unit::Branch;
+    const std::string f = fmtless ? "-" : fmt;
     if (const Row* r = lookup(T, sunit, f, k.latency)) {
       k.area = r->area;
       k.fmax_mhz = r->fmax_mhz;
@@ -472,7 +481,7 @@ Config resolve_config(const Config& in, std::vector<AreaSource>* sources) {
         }
       }
       src.detail = o.str();
-    } else if (u == Unit::Noise || u == Unit::Texture) {
+    } else if (fmtless) {
       throw ConfigError("trax area table " + area_table_path() + ": no row for " + sunit + " Stages " +
                         std::to_string(synth_stages(sunit, "-", k.latency)) + " (measure it with `rayunits trax areas --units " +
                         sunit + "`, or give units." + unit_name(u) + ".area a number)");

@@ -104,16 +104,16 @@ Config default_config() {
   // latency, count per TM, width, area. "synth" areas (um2) and STA clocks come from the area
   // table model/data/trax/areas.json (cell-flow rows) for the chip's format and the unit's
   // Stages (docs/TRAX.md "Area model" says which rows are measured and which composed); "rtl"
-  // latencies are the RTL Stages derived by rtl_latency(); conv/int/branch have no RTL: estimates
-  // in NAND2-eq (area_nand2), charged as NAND2-eq x the liberty's NAND2X1 area.
+  // latencies are the RTL Stages derived by rtl_latency(); conv/int/branch are ru_fp_cvt,
+  // ru_int_alu and ru_branch (issue 16; an area_nand2 estimate can still be configured).
   c.unit(Unit::FpAdd) = {2, 4, 1, kAreaSynth, 0, 0};
   c.unit(Unit::FpMul) = {2, 4, 1, kAreaSynth, 0, 0};
   c.unit(Unit::FpDiv) = {16, 1, 1, kAreaSynth, 0, 0};
   c.unit(Unit::FpSqrt) = {16, 1, 1, kAreaSynth, 0, 0};
   c.unit(Unit::FpCmp) = {1, 4, 1, kAreaSynth, 0, 0};
-  c.unit(Unit::Conv) = {1, 2, 1, kAreaNand2, 1500, 0};   // estimate: shifter + rounding
-  c.unit(Unit::Int) = {1, 8, 1, kAreaNand2, 500, 0};     // estimate: 32-bit adder + logic
-  c.unit(Unit::Branch) = {1, 8, 1, kAreaNand2, 200, 0};  // estimate
+  c.unit(Unit::Conv) = {1, 2, 1, kAreaSynth, 0, 0};    // ru_fp_cvt (i2f, f2i) at the format, Stages 1
+  c.unit(Unit::Int) = {1, 8, 1, kAreaSynth, 0, 0};     // ru_int_alu, IntW 32, Stages 1
+  c.unit(Unit::Branch) = {1, 8, 1, kAreaSynth, 0, 0};  // ru_branch, IntW 32, PcW 32, Stages 1
   c.unit(Unit::Box) = {kLatencyRtl, 2, 1, kAreaSynth, 0, 0};
   c.unit(Unit::Tri) = {kLatencyRtl, 1, 1, kAreaSynth, 0, 0};
   c.unit(Unit::Noise) = {kLatencyRtl, 1, 1, kAreaSynth, 0, 0};
@@ -150,7 +150,7 @@ void Config::validate(const std::string& source) const {
       R.fail(k + ".latency", rtl_ok ? "must be >= 1 or \"rtl\"" : "must be >= 1");
     if (u.count < 1) R.fail(k + ".count", "must be >= 1");
     if (u.width < 1) R.fail(k + ".width", "must be >= 1");
-    const bool synth_ok = i <= static_cast<int>(Unit::FpCmp) || rtl_ok;
+    const bool synth_ok = i <= static_cast<int>(Unit::Branch) || rtl_ok;  // every unit has RTL since issue 16
     if (u.area == kAreaNand2) {
       if (!(u.area_nand2 > 0)) R.fail(k + ".area_nand2", "must be > 0");
     } else if (u.area < 0 && !(u.area == kAreaSynth && synth_ok)) {
@@ -256,10 +256,6 @@ Config parse_config(const std::string& text, const std::string& source, const Co
           else if (k == "width") u.width = static_cast<int>(R.integer(v, key, 1, 4096));
           else if (k == "area") {
             if (v.value_exact<std::string>() && *v.value_exact<std::string>() == "synth") {
-              if (idx > static_cast<int>(Unit::FpCmp) && idx != static_cast<int>(Unit::Box) &&
-                  idx != static_cast<int>(Unit::Tri) && idx != static_cast<int>(Unit::Noise) &&
-                  idx != static_cast<int>(Unit::Texture))
-                R.fail(key, "\"synth\" is accepted for the FP, box, tri, noise and texture units only");
               u.area = kAreaSynth;
             } else {
               u.area = R.number(v, key, 0, 1e12);

@@ -76,4 +76,12 @@ noise::TextureConfig texture_config(const UnitConfig& c);
 GoldenEval texture_golden(const UnitConfig& c);
 InputGen texture_inputs(const UnitConfig& c, uint64_t seed);
 
+// The integer units (units/int_units.hpp): int_alu a_i b_i op_i -> y_o; branch a_i b_i pc_i off_i
+// op_i -> taken_o y_o. Generators: edge words (0, +-1, the signed/unsigned range ends, powers of
+// two, shift amounts around IntW) mixed with random words; equal operands often (eq, min/max ties).
+GoldenEval int_alu_golden(const UnitConfig& c);
+InputGen int_alu_inputs(const UnitConfig& c, uint64_t seed);
+GoldenEval branch_golden(const UnitConfig& c);
+InputGen branch_inputs(const UnitConfig& c, uint64_t seed);
+
 }  // namespace ru::synth::models

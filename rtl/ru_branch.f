@@ -1,0 +1,3 @@
+ru_pipe_pkg.sv
+ru_pipe.sv
+ru_branch.sv
