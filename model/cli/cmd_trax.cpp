@@ -24,7 +24,7 @@ int run_trax_cmd(int argc, char** argv) {
   SceneArgs sa;
   sa.add(app);
   std::string config_path, format, tri, noise, traversal, size = "32x32", out, profile_path;
-  bool quiet = false, cosim = false, cosim_build = false;
+  bool quiet = false, cosim = false, cosim_build = false, cosim_fp = false;
   std::set<std::string> profile_units;
   int64_t cosim_inject = -1;
   app.add_option("--config", config_path, "TOML configuration (model/data/trax/default.toml documents every key)");
@@ -46,6 +46,9 @@ int run_trax_cmd(int argc, char** argv) {
   app.add_flag("--cosim-build", cosim_build,
                "--cosim against a companion with exactly this chip's box, triangle and noise configurations (format, "
                "Stages), built or reused from the rtl build cache ($RU_RTL_CACHE, docs/SWEEPS.md)");
+  app.add_flag("--cosim-fp", cosim_fp,
+               "with --cosim (implied): co-simulate the FP units too (fp_add, fp_mul, fp_div, fp_sqrt, fp_cmp: every "
+               "FP operation of the kernel compared with their Verilated RTL)");
   app.add_option("--cosim-inject", cosim_inject,
                  "test only: flip bit 0 of the golden result of the N-th co-simulated operation (must be caught)");
   if (!parse_args(app, argc, argv)) return 0;
@@ -104,7 +107,7 @@ int run_trax_cmd(int argc, char** argv) {
 
   std::string command = "rayunits trax";
   for (int i = 1; i < argc; ++i) command += std::string(" ") + argv[i];
-  if (cosim_build) cosim = true;
+  if (cosim_build || cosim_fp) cosim = true;
   if (cosim_inject >= 0 && !cosim) throw UsageError("--cosim-inject needs --cosim");
   std::unique_ptr<trax::cosim::Client> client;
   if (cosim) {
@@ -117,12 +120,12 @@ int run_trax_cmd(int argc, char** argv) {
     std::string companion = trax::cosim::default_executable();
     if (cosim_build) {
       rtl::CosimRequest req;
-      req.units = trax::cosim::companion_units(rc);
+      req.units = trax::cosim::companion_units(rc, cosim_fp);
       if (!quiet) req.progress = [](const std::string& l) { std::fprintf(stderr, "%s\n", l.c_str()); };
       synth::install_interrupt_handler();
       companion = rtl::ensure_cosim(req).exe;
     }
-    client = std::make_unique<trax::cosim::Client>(companion, cosim_inject);
+    client = std::make_unique<trax::cosim::Client>(companion, cosim_inject, cosim_fp);
     try {
       client->start(rc);
     } catch (const std::runtime_error& e) {

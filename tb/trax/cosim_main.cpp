@@ -94,7 +94,22 @@ void reply(const std::string& s) {
   std::exit(2);
 }
 
-const char* op_label(Op op) { return op == Op::Box ? "BOX" : op == Op::Tri ? "TRI" : "NOISE"; }
+const char* op_label(Op op) {
+  switch (op) {
+    case Op::Box: return "BOX";
+    case Op::Tri: return "TRI";
+    case Op::Noise: return "NOISE";
+    case Op::FAdd: return "FADD";
+    case Op::FMul: return "FMUL";
+    case Op::FDiv: return "FDIV";
+    case Op::FSqrt: return "FSQRT";
+    case Op::FCmp: return "FCMP";
+    default: return "?";
+  }
+}
+// The FP units of --cosim-fp (header keys = registry names), in the order of companion_units.
+const std::pair<const char*, Op> kFp[] = {
+    {"fp_add", Op::FAdd}, {"fp_mul", Op::FMul}, {"fp_div", Op::FDiv}, {"fp_sqrt", Op::FSqrt}, {"fp_cmp", Op::FCmp}};
 
 uint64_t compared() {
   uint64_t n = 0;
@@ -301,13 +316,25 @@ void configure(const std::string& header) {
   chip.unit(ru::trax::Unit::Box).latency = box.latency;
   chip.unit(ru::trax::Unit::Tri).latency = tri.latency;
   chip.unit(ru::trax::Unit::Noise).latency = noise.latency;
+  // --cosim-fp: the FP units, "fp_add=fp:L:S ..." (all five or none)
+  const bool fp = kv.count("fp_add") > 0;
+  UnitSel fps[5];
+  if (fp)
+    for (int i = 0; i < 5; ++i) {
+      fps[i].op = kFp[i].second;
+      unit_spec(kFp[i].first, kv[kFp[i].first], fps[i]);
+      chip.unit(ru::trax::op_unit(kFp[i].second)).latency = fps[i].latency;
+    }
   std::vector<std::pair<const ru::synth::UnitSpec*, ru::synth::UnitConfig>> need;
   try {
-    need = ru::trax::cosim::companion_units(chip);
+    need = ru::trax::cosim::companion_units(chip, fp);
   } catch (const std::exception& e) {
     fail_line(e.what());
   }
-  for (auto [sel, k] : {std::pair<UnitSel*, int>{&box, 0}, {&tri, 1}, {&noise, 2}}) {
+  std::vector<std::pair<UnitSel*, int>> sels = {{&box, 0}, {&tri, 1}, {&noise, 2}};
+  if (fp)
+    for (int i = 0; i < 5; ++i) sels.push_back({&fps[i], 3 + i});
+  for (auto [sel, k] : sels) {
     const ru::synth::UnitSpec& spec = *need[k].first;
     const ru::synth::UnitConfig& c = need[k].second;
     std::map<std::string, int64_t> want(c.params.begin(), c.params.end());
@@ -338,7 +365,13 @@ void configure(const std::string& header) {
   g_units[Op::Box] = box;
   g_units[Op::Tri] = tri;
   g_units[Op::Noise] = noise;
-  reply("OK RTL " + box.rtl + ", " + tri.rtl + ", " + noise.rtl);
+  std::string fp_rtl;
+  if (fp)
+    for (const UnitSel& u : fps) {
+      g_units[u.op] = u;
+      fp_rtl += ", " + u.rtl;
+    }
+  reply("OK RTL " + box.rtl + ", " + tri.rtl + ", " + noise.rtl + fp_rtl);
 }
 
 int serve() {
@@ -367,7 +400,7 @@ int serve() {
     if (r.cycle < last) fail_line("operations out of cycle order");
     last = r.cycle;
     const Op op = static_cast<Op>(r.op);
-    if (op != Op::Box && op != Op::Tri && op != Op::Noise) fail_line("bad op in the stream");
+    if (!g_units.count(op)) fail_line(std::string("an operation of a unit without RTL in this run: ") + op_label(op));
     const int n = ru::trax::unit_inputs(op) + ru::trax::unit_outputs(op);
     if (r.nwords != n) fail_line("bad record length");
     words.resize(n);
@@ -379,11 +412,14 @@ int serve() {
     if (in.now != r.cycle) fail_line("two operations in one cycle on one unit slot");
     step(in, r.cycle, &r, words.data());
   }
-  uint64_t by_op[3] = {0, 0, 0};
-  for (const auto& p : g_inst) by_op[static_cast<int>(p->u->op) - static_cast<int>(Op::Box)] += p->sb->stats().checked;
+  std::map<Op, uint64_t> by_op;
+  for (const auto& p : g_inst) by_op[p->u->op] += p->sb->stats().checked;
   std::ostringstream o;
-  o << "DONE compared=" << compared() << " box=" << by_op[0] << " tri=" << by_op[1] << " noise=" << by_op[2]
-    << " rtl_instances=" << g_inst.size() << " rtl_cycles=" << g_rtl_cycles;
+  o << "DONE compared=" << compared() << " box=" << by_op[Op::Box] << " tri=" << by_op[Op::Tri]
+    << " noise=" << by_op[Op::Noise];
+  if (g_units.count(Op::FAdd))
+    for (const auto& [name, op] : kFp) o << " " << name << "=" << by_op[op];
+  o << " rtl_instances=" << g_inst.size() << " rtl_cycles=" << g_rtl_cycles;
   reply(o.str());
   return 0;
 }

@@ -13,13 +13,26 @@
 
 #include "rayunits/noise/fixed.hpp"
 #include "rayunits/num/format.hpp"
+#include "rayunits/trax/thread.hpp"
 #include "rayunits/util/process.hpp"
 
 namespace ru::trax::cosim {
 
 namespace fs = std::filesystem;
 
-std::string header_line(const Config& c) {
+// The FP units of --cosim-fp: header key, registry unit, chip unit class, operation.
+struct FpUnit {
+  const char* name;
+  Unit unit;
+  Op op;
+};
+constexpr FpUnit kFpUnits[] = {{"fp_add", Unit::FpAdd, Op::FAdd},
+                               {"fp_mul", Unit::FpMul, Op::FMul},
+                               {"fp_div", Unit::FpDiv, Op::FDiv},
+                               {"fp_sqrt", Unit::FpSqrt, Op::FSqrt},
+                               {"fp_cmp", Unit::FpCmp, Op::FCmp}};
+
+std::string header_line(const Config& c, bool fp) {
   const std::string fmt = c.format == "float" ? "e8m23" : c.format;
   auto unit = [&](Unit u, const std::string& algo) {
     const UnitCfg& k = c.unit(u);
@@ -28,10 +41,12 @@ std::string header_line(const Config& c) {
   std::ostringstream o;
   o << kProtocol << " format=" << fmt << " tms=" << c.tms << " box=" << unit(Unit::Box, c.box)
     << " tri=" << unit(Unit::Tri, c.tri) << " noise=" << unit(Unit::Noise, c.noise);
+  if (fp)
+    for (const FpUnit& u : kFpUnits) o << " " << u.name << "=" << unit(u.unit, "fp");
   return o.str();
 }
 
-std::vector<std::pair<const synth::UnitSpec*, synth::UnitConfig>> companion_units(const Config& c) {
+std::vector<std::pair<const synth::UnitSpec*, synth::UnitConfig>> companion_units(const Config& c, bool fp) {
   num::Format f = num::Format::parse(c.format == "float" ? "e8m23" : c.format);
   auto at = [&](const char* unit, Unit u, std::map<std::string, long long> params) {
     const synth::UnitSpec* s = &synth::find_unit(unit);
@@ -52,6 +67,8 @@ std::vector<std::pair<const synth::UnitSpec*, synth::UnitConfig>> companion_unit
   const noise::FixedConfig nc =
       noise::default_config(nu == "noise" ? noise::NoiseDatapath::kFull : noise::NoiseDatapath::kTrunc);
   v.push_back(at(nu.c_str(), Unit::Noise, {{"FracBits", nc.frac_bits}, {"IntBits", nc.int_bits}, {"OutW", nc.out_w}}));
+  if (fp)
+    for (const FpUnit& u : kFpUnits) v.push_back(at(u.name, u.unit, {}));
   return v;
 }
 
@@ -106,7 +123,7 @@ void Client::start(const Config& cfg) {
   if (!child_->started()) throw std::runtime_error("--cosim: " + child_->wait().error);
   to_ = child_->in_fd();
   from_ = child_->out_fd();
-  const std::string h = header_line(cfg) + "\n";
+  const std::string h = header_line(cfg, fp_) + "\n";
   put(h.data(), h.size());
   flush();
   std::string line;
@@ -155,7 +172,7 @@ void Client::issue(const UnitIssue& u) {
   if (inject_ >= 0 && sent_ == static_cast<uint64_t>(inject_)) {
     uint64_t w[32];
     std::memcpy(w, u.data, sizeof(uint64_t) * (nin + nout));
-    w[nin + (u.op == Op::Box ? 1 : u.op == Op::Tri ? 2 : 0)] ^= 1;  // box t_enter, tri t, noise value
+    w[nin + (u.op == Op::Box ? 1 : u.op == Op::Tri ? 2 : 0)] ^= 1;  // box t_enter, tri t, noise value, FP y
     put(w, sizeof(uint64_t) * (nin + nout));
   } else {
     put(u.data, sizeof(uint64_t) * (nin + nout));

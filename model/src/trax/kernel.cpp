@@ -445,9 +445,9 @@ class RenderWork : public WorkSource {
     float* out = img_.at(x, y);
     for (int k = 0; k < 3; ++k) {
       out[k] = render::kernel::pixel_value(c[k].v.to_double());
-      const uint32_t a = t.emit(Op::FCmp, {use(c[k])});
-      const uint32_t b = t.emit(Op::FCmp, {a});
-      ch[k] = t.emit(Op::Conv, {b});
+      const TVal zero = num::fp_cast<TVal>(0.0), one = num::fp_cast<TVal>(1.0);  // immediates
+      const TVal clamped = fp_min(fp_max(c[k], zero), one);                       // two FCmp (max, min)
+      ch[k] = t.emit(Op::Conv, {clamped.reg});
     }
     t.emit(Op::Store, {ch[0], ch[1], ch[2]}, false, L_.fb_base + item * cfg_.framebuffer_bytes_per_pixel);
   }

@@ -283,7 +283,8 @@ class Machine {
           ++st.stall_contention;
           continue;
         }
-        if (obs_ && (u == Unit::Box || u == Unit::Tri || u == Unit::Noise || u == Unit::Texture)) {
+        if (obs_ && (u == Unit::Box || u == Unit::Tri || u == Unit::Noise || u == Unit::Texture ||
+                     (obs_->fp_units() && fp_unit_op(in.op)))) {
           UnitIssue e;
           e.cycle = now;
           e.tm = static_cast<int>(tm_index);
@@ -292,7 +293,7 @@ class Machine {
           e.item = p.item;
           e.index = p.pc;
           e.op = in.op;
-          e.data = p.s.data.empty() ? nullptr : p.s.data.data() + in.addr;  // none: not recorded
+          e.data = in.rec ? p.s.data.data() + in.addr : nullptr;  // none: not recorded
           ++st.observed;
           obs_->issue(e);
         }

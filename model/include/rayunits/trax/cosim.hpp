@@ -49,8 +49,9 @@ struct Record {
 static_assert(sizeof(Record) == 32, "cosim::Record layout");
 
 // "rayunits-trax-cosim 1 format=e8m23 tms=4 box=plain:L:S tri=robust:L:S noise=fixed-trunc:L:S"
-// (L = latency, S = issue slots per TM = count x width; cfg must be resolved: resolve_config).
-std::string header_line(const Config& cfg);
+// (L = latency, S = issue slots per TM = count x width; cfg must be resolved: resolve_config);
+// with fp (--cosim-fp) also " fp_add=fp:L:S fp_mul=fp:L:S fp_div=fp:L:S fp_sqrt=fp:L:S fp_cmp=fp:L:S".
+std::string header_line(const Config& cfg, bool fp = false);
 
 // The RTL configurations the companion must have for this resolved chip: ray_box (OptConservative
 // by chip.box), ray_tri_robust or ray_tri_mt (no tie-break, eps test or volume outputs) and
@@ -58,7 +59,8 @@ std::string header_line(const Config& cfg);
 // model the chip runs), each in the chip's format at its latency as Stages — what
 // tb/trax/cosim_main.cpp looks for when it reads header_line(). `rayunits trax --cosim-build`
 // builds exactly these (rtl::ensure_cosim).
-std::vector<std::pair<const synth::UnitSpec*, synth::UnitConfig>> companion_units(const Config& cfg);
+// With fp, then fp_add, fp_mul, fp_div, fp_sqrt and fp_cmp in the chip's format at their latencies.
+std::vector<std::pair<const synth::UnitSpec*, synth::UnitConfig>> companion_units(const Config& cfg, bool fp = false);
 
 // The companion next to this rayunits binary: $RU_TRAX_COSIM if set, else
 // <build>/tb/trax/tb_trax_cosim for <build>/model/cli/rayunits (from /proc/self/exe).
@@ -74,7 +76,8 @@ class Client : public IssueObserver {
  public:
   // inject >= 0: planted error for the tests: the golden result of the inject-th co-simulated
   // operation (0-based) is sent with bit 0 flipped (box t_enter, tri t, noise value).
-  Client(std::string exe, int64_t inject = -1) : exe_(std::move(exe)), inject_(inject) {}
+  // fp: co-simulate the FP units too (--cosim-fp).
+  Client(std::string exe, int64_t inject = -1, bool fp = false) : exe_(std::move(exe)), inject_(inject), fp_(fp) {}
   ~Client() override;
   Client(const Client&) = delete;
   Client& operator=(const Client&) = delete;
@@ -84,6 +87,7 @@ class Client : public IssueObserver {
   void start(const Config& resolved_cfg);
   void issue(const UnitIssue& u) override;
   bool failed() const override { return failed_; }
+  bool fp_units() const override { return fp_; }
   // Ends the stream (last_cycle: the run's total cycles) and collects the companion's verdict.
   Outcome finish(uint64_t last_cycle);
   const std::string& started_line() const { return ok_line_; }
@@ -93,6 +97,7 @@ class Client : public IssueObserver {
   void flush();
   std::string exe_;
   int64_t inject_ = -1;
+  bool fp_ = false;
   uint64_t sent_ = 0;
   std::unique_ptr<util::Child> child_;  // the companion (util/process.hpp)
   int to_ = -1, from_ = -1;              // its stdin / stdout pipes (owned by child_)

@@ -102,6 +102,9 @@ class IssueObserver {
   virtual void issue(const UnitIssue& u) = 0;
   // Checked once per cycle: true ends the run (SimStats::stopped).
   virtual bool failed() const { return false; }
+  // true: the FP units' operations (fp_add, fp_mul, fp_div, fp_sqrt, fp_cmp) are passed too
+  // (--cosim-fp); each must carry its operand record (thread.hpp), else issue() sees data = null.
+  virtual bool fp_units() const { return false; }
 };
 
 // Runs the timing model on a fresh SystemC simulation context (deterministic; may be called

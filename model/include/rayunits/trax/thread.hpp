@@ -67,6 +67,7 @@ struct Instr {
   uint64_t addr;  // byte address (Load, Store, LoadLocal, StoreLocal); Box/Tri/Noise with
                   // operand recording on: offset of its operands in Stream::data
   uint8_t aux = 0;  // Texture: the request's octave count (its occupancy and latency)
+  uint8_t rec = 0;  // an operand record is attached (Thread::attach; addr is its offset)
 };
 
 // Operand records of the unit instructions (kept only when Thread::keep_operands(): the RTL
@@ -78,13 +79,30 @@ struct Instr {
 //          masked to IntBits + FracBits); 1 out: value (masked to OutW bits)
 //   Texture 5 in: the texture unit's words x, y, z (FixedTexture::quantize), mode, octaves;
 //          1 out: value (masked to OutF + 2 bits)
+// and of the FP units (co-simulated with --cosim-fp; issue 16), the format's bit patterns:
+//   FAdd  a, b, op (0 add, 1 sub) -> y      FMul a, b -> y      FDiv a, b -> y      FSqrt a -> y
+//   FCmp  a, b, op (0 lt, 1 le, 2 eq, 3 min, 4 max) -> y (lt/le/eq: 0 or 1, the predicate the
+//         branch reads; a > b is lt(b, a), a != b is eq(a, b) with the branch inverted)
 constexpr int kBoxIn = 14, kBoxOut = 3, kTriIn = 17, kTriOut = 5, kNoiseIn = 3, kNoiseOut = 1, kTextureIn = 5,
               kTextureOut = 1;
+inline bool fp_unit_op(Op op) {
+  return op == Op::FAdd || op == Op::FMul || op == Op::FDiv || op == Op::FSqrt || op == Op::FCmp;
+}
 inline int unit_inputs(Op op) {
-  return op == Op::Box ? kBoxIn : op == Op::Tri ? kTriIn : op == Op::Noise ? kNoiseIn : op == Op::Texture ? kTextureIn : 0;
+  switch (op) {
+    case Op::Box: return kBoxIn;
+    case Op::Tri: return kTriIn;
+    case Op::Noise: return kNoiseIn;
+    case Op::Texture: return kTextureIn;
+    case Op::FAdd: case Op::FCmp: return 3;
+    case Op::FMul: case Op::FDiv: return 2;
+    case Op::FSqrt: return 1;
+    default: return 0;
+  }
 }
 inline int unit_outputs(Op op) {
-  return op == Op::Box ? kBoxOut : op == Op::Tri ? kTriOut : op == Op::Noise ? kNoiseOut : op == Op::Texture ? kTextureOut : 0;
+  return op == Op::Box ? kBoxOut : op == Op::Tri ? kTriOut : op == Op::Noise ? kNoiseOut : op == Op::Texture ? kTextureOut
+         : fp_unit_op(op) ? 1 : 0;
 }
 // The same layout by RTL data port (unit registry names, model/include/rayunits/synth/units.hpp):
 // each entry covers `n` consecutive words, the port's elements low first. The co-simulation maps
@@ -103,8 +121,20 @@ inline const std::vector<UnitWords>& unit_words(Op op) {
                                              {"why_o", 1},  {"t_o", 1},    {"beta_o", 1}, {"gamma_o", 1}};
   static const std::vector<UnitWords> noise = {{"x_i", 1}, {"y_i", 1}, {"z_i", 1}, {"value_o", 1}};
   static const std::vector<UnitWords> texture = {{"x_i", 1}, {"y_i", 1}, {"z_i", 1}, {"mode_i", 1}, {"oct_i", 1}, {"value_o", 1}};
+  static const std::vector<UnitWords> fp_op = {{"a_i", 1}, {"b_i", 1}, {"op_i", 1}, {"y_o", 1}};  // fp_add, fp_cmp
+  static const std::vector<UnitWords> fp_ab = {{"a_i", 1}, {"b_i", 1}, {"y_o", 1}};               // fp_mul, fp_div
+  static const std::vector<UnitWords> fp_a = {{"a_i", 1}, {"y_o", 1}};                            // fp_sqrt
   static const std::vector<UnitWords> none;
-  return op == Op::Box ? box : op == Op::Tri ? tri : op == Op::Noise ? noise : op == Op::Texture ? texture : none;
+  switch (op) {
+    case Op::Box: return box;
+    case Op::Tri: return tri;
+    case Op::Noise: return noise;
+    case Op::Texture: return texture;
+    case Op::FAdd: case Op::FCmp: return fp_op;
+    case Op::FMul: case Op::FDiv: return fp_ab;
+    case Op::FSqrt: return fp_a;
+    default: return none;
+  }
 }
 
 struct Stream {
@@ -173,6 +203,7 @@ class Thread {
   // Attaches n words to the last instruction (a Box/Tri/Noise): Instr::addr = their offset.
   void attach(const uint64_t* w, int n) {
     s_->code.back().addr = s_->data.size();
+    s_->code.back().rec = 1;
     s_->data.insert(s_->data.end(), w, w + n);
   }
   // A load of scene data at `addr` (address computed from register addr_reg, 0 = constant).
@@ -229,7 +260,18 @@ inline uint32_t use(const TVal& a) {
   if (a.addr) return Thread::current()->load_cached(a.addr);
   return 0;
 }
-inline TVal result(Op op, num::Soft v, std::initializer_list<const TVal*> src) {
+// An FP unit's operand record (kBoxIn's list above): the operands, the op code if the unit has
+// op_i, the result.
+inline void fp_record(Thread& t, Op op, std::initializer_list<const TVal*> src, uint64_t code, uint64_t y) {
+  uint64_t w[5];
+  int n = 0;
+  for (const TVal* p : src) w[n++] = p->v.bits;
+  if (op == Op::FAdd || op == Op::FCmp) w[n++] = code;
+  w[n++] = y;
+  t.attach(w, n);
+}
+// code: the unit's op_i (fp_add 1 = sub; fp_cmp 3 = min, 4 = max).
+inline TVal result(Op op, num::Soft v, std::initializer_list<const TVal*> src, uint64_t code = 0) {
   TVal r;
   r.v = v;
   if (Thread* t = Thread::current()) {
@@ -237,12 +279,16 @@ inline TVal result(Op op, num::Soft v, std::initializer_list<const TVal*> src) {
     int n = 0;
     for (const TVal* p : src) s[n++] = use(*p);
     r.reg = t->mark_fp(t->emit(op, s, n));
+    if (t->keep_operands() && fp_unit_op(op)) fp_record(*t, op, src, code, v.bits);
   }
   return r;
 }
-inline bool compare(bool value, const TVal& a, const TVal& b) {
+// A comparison branched on: FCmp (fp_cmp op `code` on (a, b), or (b, a) when swap) + branch; the
+// unit's predicate is `value`, inverted when negate (a != b branches on eq's complement).
+inline bool compare(bool value, const TVal& a, const TVal& b, uint64_t code, bool swap = false, bool negate = false) {
   if (Thread* t = Thread::current()) {
     const uint32_t p = t->emit(Op::FCmp, {use(a), use(b)});
+    if (t->keep_operands()) fp_record(*t, Op::FCmp, {swap ? &b : &a, swap ? &a : &b}, code, (value != negate) ? 1 : 0);
     t->emit(Op::Branch, {p}, false);
   }
   return value;
@@ -250,17 +296,17 @@ inline bool compare(bool value, const TVal& a, const TVal& b) {
 }  // namespace detail
 
 inline TVal operator+(const TVal& a, const TVal& b) { return detail::result(Op::FAdd, a.v + b.v, {&a, &b}); }
-inline TVal operator-(const TVal& a, const TVal& b) { return detail::result(Op::FAdd, a.v - b.v, {&a, &b}); }
+inline TVal operator-(const TVal& a, const TVal& b) { return detail::result(Op::FAdd, a.v - b.v, {&a, &b}, 1); }
 inline TVal operator*(const TVal& a, const TVal& b) { return detail::result(Op::FMul, a.v * b.v, {&a, &b}); }
 inline TVal operator/(const TVal& a, const TVal& b) { return detail::result(Op::FDiv, a.v / b.v, {&a, &b}); }
 inline TVal operator-(const TVal& a) { return detail::result(Op::Int, -a.v, {&a}); }  // sign flip
 // A comparison whose result is only branched on: compare + branch.
-inline bool operator<(const TVal& a, const TVal& b) { return detail::compare(a.v < b.v, a, b); }
-inline bool operator<=(const TVal& a, const TVal& b) { return detail::compare(a.v <= b.v, a, b); }
-inline bool operator>(const TVal& a, const TVal& b) { return detail::compare(a.v > b.v, a, b); }
-inline bool operator>=(const TVal& a, const TVal& b) { return detail::compare(a.v >= b.v, a, b); }
-inline bool operator==(const TVal& a, const TVal& b) { return detail::compare(a.v == b.v, a, b); }
-inline bool operator!=(const TVal& a, const TVal& b) { return detail::compare(a.v != b.v, a, b); }
+inline bool operator<(const TVal& a, const TVal& b) { return detail::compare(a.v < b.v, a, b, 0); }
+inline bool operator<=(const TVal& a, const TVal& b) { return detail::compare(a.v <= b.v, a, b, 1); }
+inline bool operator>(const TVal& a, const TVal& b) { return detail::compare(a.v > b.v, a, b, 0, true); }
+inline bool operator>=(const TVal& a, const TVal& b) { return detail::compare(a.v >= b.v, a, b, 1, true); }
+inline bool operator==(const TVal& a, const TVal& b) { return detail::compare(a.v == b.v, a, b, 2); }
+inline bool operator!=(const TVal& a, const TVal& b) { return detail::compare(a.v != b.v, a, b, 2, false, true); }
 
 // The arithmetic vocabulary of the golden models and the renderer (found by ADL).
 inline uint64_t fp_bits(const TVal& x) { return x.v.bits; }
@@ -268,8 +314,8 @@ inline bool fp_isnan(const TVal& x) { return num::fp_isnan(x.v); }
 inline double fp_to_double(const TVal& x) { return x.v.to_double(); }
 inline TVal fp_canon(const TVal& x) { return x; }
 inline TVal fp_abs(const TVal& x) { return detail::result(Op::Int, num::fp_abs(x.v), {&x}); }  // clear sign bit
-inline TVal fp_min(const TVal& a, const TVal& b) { return detail::result(Op::FCmp, num::fp_min(a.v, b.v), {&a, &b}); }
-inline TVal fp_max(const TVal& a, const TVal& b) { return detail::result(Op::FCmp, num::fp_max(a.v, b.v), {&a, &b}); }
+inline TVal fp_min(const TVal& a, const TVal& b) { return detail::result(Op::FCmp, num::fp_min(a.v, b.v), {&a, &b}, 3); }
+inline TVal fp_max(const TVal& a, const TVal& b) { return detail::result(Op::FCmp, num::fp_max(a.v, b.v), {&a, &b}, 4); }
 inline TVal fp_sqrt(const TVal& x) { return detail::result(Op::FSqrt, render::fp_sqrt(x.v), {&x}); }
 // floor = float->int (toward -inf) and int->float: two conversions, as render::fp_floor(Soft).
 inline TVal fp_floor(const TVal& x) {
