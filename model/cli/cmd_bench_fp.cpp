@@ -27,6 +27,7 @@
 
 #include "cli_util.hpp"
 #include "command.hpp"
+#include "rayunits/num/batch.hpp"
 #include "rayunits/num/format.hpp"
 #include "rayunits/num/mpfr_ref.hpp"
 #include "rayunits/util/rng.hpp"
@@ -90,6 +91,22 @@ mpfr_rnd_t mpfr_mode(ru::num::Round r) {
     case ru::num::Round::RUP: return MPFR_RNDU;
   }
   return MPFR_RNDN;
+}
+
+// One pass of the batch API (num/batch.hpp) over all operand sets: arrays in, arrays out.
+void batch_pass(const Format& f, Op op, const Operands& o, std::vector<uint64_t>& y, std::vector<uint8_t>& fl) {
+  const size_t n = o.a.size();
+  y.resize(n);
+  fl.resize(n);
+  uint8_t all = 0;
+  switch (op) {
+    case Op::Add: all = ru::num::add_n(f, o.a.data(), o.b.data(), y.data(), fl.data(), n); break;
+    case Op::Mul: all = ru::num::mul_n(f, o.a.data(), o.b.data(), y.data(), fl.data(), n); break;
+    case Op::Div: all = ru::num::div_n(f, o.a.data(), o.b.data(), y.data(), fl.data(), n); break;
+    case Op::Sqrt: all = ru::num::sqrt_n(f, o.s.data(), y.data(), fl.data(), n); break;
+    default: all = ru::num::fma_n(f, o.a.data(), o.b.data(), o.c.data(), y.data(), fl.data(), n); break;
+  }
+  g_sink = g_sink + y[n / 2] + all;
 }
 
 // One pass of the model over all operand sets.
@@ -389,11 +406,12 @@ int run_bench_fp(int argc, char** argv) {
   // The ratio line keeps add/mul/div/fma (in that order); sqrt is in the table and the peer line.
   const Op ops[5] = {Op::Add, Op::Mul, Op::Div, Op::Fma, Op::Sqrt};
   double worst[5] = {1e300, 1e300, 1e300, 1e300, 1e300};
-  double worst_peer[5] = {1e300, 1e300, 1e300, 1e300, 1e300};
+  double worst_peer[5] = {1e300, 1e300, 1e300, 1e300, 1e300}, worst_bpeer[5] = {1e300, 1e300, 1e300, 1e300, 1e300};
   std::printf(
       "bench fp: one thread, %zu random normal operand sets (exponents -8..8, fewer for E < 6; sqrt of |a|),\n"
       "rounding %s; each figure: million operations per CPU-second, median of %d runs (>= %.2f s each, the\n"
-      "variants alternating, same operands). model = ru::num bit patterns in, bits + flags out. peer = a\n"
+      "variants alternating, same operands). model = ru::num bit patterns in, bits + flags out; batch = the\n"
+      "same through the batch API (num/batch.hpp: arrays in, arrays out, one format dispatch). peer = a\n"
       "minimal double-backed emulator (FlexFloat/CPFloat style: doubles in, compute in double, round once\n"
       "to nearest at M+1 bits / the subnormal quantum, overflow to INF; no other modes, no flags; no fma).\n"
       "float = native float loops on the same values (vectorized by the compiler). MPFR = operands held as\n"
@@ -403,14 +421,14 @@ int run_bench_fp(int argc, char** argv) {
       "model / MPFR, ratio+cv = model / MPFR+cv. oracle = ru::num::mpfr_apply, the test oracle (bits\n"
       "in/out). The ratio lines use %s.\n\n",
       n, ru::num::round_name(rm), reps, min_time, resident ? "MPFR (--baseline resident)" : "MPFR+cv (--baseline convert)");
-  std::printf("%-8s %-5s %9s %9s %9s %9s %9s %8s %8s %9s %9s %9s\n", "format", "op", "model", "peer", "float", "MPFR",
-              "MPFR+cv", "m/peer", "fl/m", "ratio", "ratio+cv", "oracle");
+  std::printf("%-8s %-5s %9s %9s %9s %9s %9s %9s %8s %8s %9s %9s %9s\n", "format", "op", "model", "batch", "peer", "float",
+              "MPFR", "MPFR+cv", "m/peer", "fl/m", "ratio", "ratio+cv", "oracle");
   for (const Format& f : fmts) {
     Operands o = make_operands(f, n, seed);
     MpfrLoop mp(f);
     mp.load(o);
     const Peer peer(f);
-    double ratio[5], rpeer[5];
+    double ratio[5], rpeer[5], rbpeer[5] = {0, 0, 0, 0, 0};
     for (int k = 0; k < 5; ++k) {
       const Op op = ops[k];
       const bool has_peer = op != Op::Fma;
@@ -425,9 +443,12 @@ int run_bench_fp(int argc, char** argv) {
       if (bad)
         std::fprintf(stderr, "bench fp: warning: %s %s: model and MPFR differ on %zu of %zu operand sets\n",
                      f.name().c_str(), ru::num::op_name(op), bad, n);
+      std::vector<uint64_t> by;
+      std::vector<uint8_t> bfl;
       std::vector<std::function<void()>> passes = {[&] { model_pass(f, op, o); }, [&] { mp.resident_pass(op); },
-                                                   [&] { mp.pass(op, o, nullptr); }, [&] { float_pass(op, o); }};
-      std::vector<size_t> counts = {n, n, n, n};
+                                                   [&] { mp.pass(op, o, nullptr); }, [&] { float_pass(op, o); },
+                                                   [&] { batch_pass(f, op, o, by, bfl); }};
+      std::vector<size_t> counts = {n, n, n, n, n};
       if (has_peer) {
         passes.push_back([&] { peer_pass(peer, op, o); });
         counts.push_back(n);
@@ -442,26 +463,29 @@ int run_bench_fp(int argc, char** argv) {
       if (oracle) std::snprintf(oracle_text, sizeof oracle_text, "%.1f", 1e3 / t.back());
       rpeer[k] = 0;
       if (has_peer) {
-        rpeer[k] = t[4] / t[0];
+        rpeer[k] = t[5] / t[0];
+        rbpeer[k] = t[5] / t[4];
         worst_peer[k] = std::min(worst_peer[k], rpeer[k]);
-        std::snprintf(peer_text, sizeof peer_text, "%.1f", 1e3 / t[4]);
+        worst_bpeer[k] = std::min(worst_bpeer[k], rbpeer[k]);
+        std::snprintf(peer_text, sizeof peer_text, "%.1f", 1e3 / t[5]);
         std::snprintf(mpeer_text, sizeof mpeer_text, "%.2fx", rpeer[k]);
       }
       ratio[k] = (resident ? t[1] : t[2]) / t[0];
       worst[k] = std::min(worst[k], ratio[k]);
-      std::printf("%-8s %-5s %9.1f %9s %9.1f %9.1f %9.1f %8s %7.1fx %8.1fx %8.1fx %9s\n", f.name().c_str(),
-                  ru::num::op_name(op), 1e3 / t[0], peer_text, 1e3 / t[3], 1e3 / t[1], 1e3 / t[2], mpeer_text,
-                  t[0] / t[3], t[1] / t[0], t[2] / t[0], oracle_text);
+      std::printf("%-8s %-5s %9.1f %9.1f %9s %9.1f %9.1f %9.1f %8s %7.1fx %8.1fx %8.1fx %9s\n", f.name().c_str(),
+                  ru::num::op_name(op), 1e3 / t[0], 1e3 / t[4], peer_text, 1e3 / t[3], 1e3 / t[1], 1e3 / t[2],
+                  mpeer_text, t[0] / t[3], t[1] / t[0], t[2] / t[0], oracle_text);
       std::fflush(stdout);
     }
     std::printf("ratio[%s] add=%.1f mul=%.1f div=%.1f fma=%.1f sqrt=%.1f\n", f.name().c_str(), ratio[0], ratio[1],
                 ratio[2], ratio[3], ratio[4]);
-    std::printf("peer[%s] model/peer add=%.2f mul=%.2f div=%.2f sqrt=%.2f\n", f.name().c_str(), rpeer[0], rpeer[1],
-                rpeer[2], rpeer[4]);
+    std::printf("peer[%s] model/peer add=%.2f mul=%.2f div=%.2f sqrt=%.2f batch/peer add=%.2f mul=%.2f div=%.2f sqrt=%.2f\n",
+                f.name().c_str(), rpeer[0], rpeer[1], rpeer[2], rpeer[4], rbpeer[0], rbpeer[1], rbpeer[2], rbpeer[4]);
   }
   mpfr_free_cache();
-  std::printf("peer model/peer add=%.2f mul=%.2f div=%.2f sqrt=%.2f\n", worst_peer[0], worst_peer[1], worst_peer[2],
-              worst_peer[4]);
+  std::printf("peer model/peer add=%.2f mul=%.2f div=%.2f sqrt=%.2f batch/peer add=%.2f mul=%.2f div=%.2f sqrt=%.2f\n",
+              worst_peer[0], worst_peer[1], worst_peer[2], worst_peer[4], worst_bpeer[0], worst_bpeer[1], worst_bpeer[2],
+              worst_bpeer[4]);
   std::printf("ratio add=%.1f mul=%.1f div=%.1f fma=%.1f\n", worst[0], worst[1], worst[2], worst[3]);
   return 0;
 }
