@@ -107,9 +107,7 @@ const char* op_label(Op op) {
     default: return "?";
   }
 }
-// The FP units of --cosim-fp (header keys = registry names), in the order of companion_units.
-const std::pair<const char*, Op> kFp[] = {
-    {"fp_add", Op::FAdd}, {"fp_mul", Op::FMul}, {"fp_div", Op::FDiv}, {"fp_sqrt", Op::FSqrt}, {"fp_cmp", Op::FCmp}};
+
 
 uint64_t compared() {
   uint64_t n = 0;
@@ -317,14 +315,14 @@ void configure(const std::string& header) {
   chip.unit(ru::trax::Unit::Tri).latency = tri.latency;
   chip.unit(ru::trax::Unit::Noise).latency = noise.latency;
   // --cosim-fp: the FP units, "fp_add=fp:L:S ..." (all five or none)
-  const bool fp = kv.count("fp_add") > 0;
-  UnitSel fps[5];
-  if (fp)
-    for (int i = 0; i < 5; ++i) {
-      fps[i].op = kFp[i].second;
-      unit_spec(kFp[i].first, kv[kFp[i].first], fps[i]);
-      chip.unit(ru::trax::op_unit(kFp[i].second)).latency = fps[i].latency;
-    }
+  const auto& fpu = cosim::fp_units();  // the client's list: header keys, units, ops
+  const bool fp = kv.count(fpu.front().name) > 0;
+  std::vector<UnitSel> fps(fp ? fpu.size() : 0);
+  for (size_t i = 0; i < fps.size(); ++i) {
+    fps[i].op = static_cast<Op>(fpu[i].op);
+    unit_spec(fpu[i].name, kv[fpu[i].name], fps[i]);
+    chip.unit(fpu[i].unit).latency = fps[i].latency;
+  }
   std::vector<std::pair<const ru::synth::UnitSpec*, ru::synth::UnitConfig>> need;
   try {
     need = ru::trax::cosim::companion_units(chip, fp);
@@ -332,8 +330,7 @@ void configure(const std::string& header) {
     fail_line(e.what());
   }
   std::vector<std::pair<UnitSel*, int>> sels = {{&box, 0}, {&tri, 1}, {&noise, 2}};
-  if (fp)
-    for (int i = 0; i < 5; ++i) sels.push_back({&fps[i], 3 + i});
+  for (size_t i = 0; i < fps.size(); ++i) sels.push_back({&fps[i], 3 + static_cast<int>(i)});
   for (auto [sel, k] : sels) {
     const ru::synth::UnitSpec& spec = *need[k].first;
     const ru::synth::UnitConfig& c = need[k].second;
@@ -366,11 +363,10 @@ void configure(const std::string& header) {
   g_units[Op::Tri] = tri;
   g_units[Op::Noise] = noise;
   std::string fp_rtl;
-  if (fp)
-    for (const UnitSel& u : fps) {
-      g_units[u.op] = u;
-      fp_rtl += ", " + u.rtl;
-    }
+  for (const UnitSel& u : fps) {
+    g_units[u.op] = u;
+    fp_rtl += ", " + u.rtl;
+  }
   reply("OK RTL " + box.rtl + ", " + tri.rtl + ", " + noise.rtl + fp_rtl);
 }
 
@@ -417,8 +413,8 @@ int serve() {
   std::ostringstream o;
   o << "DONE compared=" << compared() << " box=" << by_op[Op::Box] << " tri=" << by_op[Op::Tri]
     << " noise=" << by_op[Op::Noise];
-  if (g_units.count(Op::FAdd))
-    for (const auto& [name, op] : kFp) o << " " << name << "=" << by_op[op];
+  for (const cosim::FpUnit& u : cosim::fp_units())
+    if (g_units.count(static_cast<Op>(u.op))) o << " " << u.name << "=" << by_op[static_cast<Op>(u.op)];
   o << " rtl_instances=" << g_inst.size() << " rtl_cycles=" << g_rtl_cycles;
   reply(o.str());
   return 0;

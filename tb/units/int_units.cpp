@@ -2,8 +2,8 @@
 // (rtl/ru_branch.sv). For each configuration, on top of the generic plan (random, reset,
 // inject_*, Long_ random: tb/src/registry_plan.cpp, vectors from models::int_alu_inputs /
 // branch_inputs):
-//   exhaustive  (tag) every input combination: int_alu every (a, b) x the 16 op codes; branch
-//               every (a, b, pc, off) x the 8 op codes (at most 2^20 records)
+//   exhaustive  (tag) every input combination: every value of every input field of the registry
+//               (int_alu: a, b, op_i; branch: a, b, pc, off, op_i; at most 2^20 records)
 #include <gtest/gtest.h>
 
 #include "rayunits/synth/unit_models.hpp"
@@ -45,11 +45,8 @@ void int_plan(const ConfigDesc& cfg) {
   if (!cfg.has_tag("exhaustive")) return;
   const synth::UnitSpec* u = &synth::find_unit(cfg.unit);
   const synth::UnitConfig uc = unit_config(cfg);
-  const int w = static_cast<int>(synth::param_value(*u, uc, "IntW"));
-  const std::vector<int> bits = cfg.unit == "branch"
-                                    ? std::vector<int>{w, w, static_cast<int>(synth::param_value(*u, uc, "PcW")),
-                                                       static_cast<int>(synth::param_value(*u, uc, "PcW")), 3}
-                                    : std::vector<int>{w, w, 4};
+  std::vector<int> bits;  // every input field's width, from the registry (ports, parameters)
+  for (const synth::Field& f : synth::fields_for(*u, uc, synth::PortDir::In)) bits.push_back(f.bits);
   const std::string suite = (cfg.has_tag("long") ? "Long_" : "") + cfg.full_name();
   register_test(suite, "exhaustive", [&cfg, u, uc, suite, bits] {
     ScoreboardTest t;

@@ -20,17 +20,14 @@ namespace ru::trax::cosim {
 
 namespace fs = std::filesystem;
 
-// The FP units of --cosim-fp: header key, registry unit, chip unit class, operation.
-struct FpUnit {
-  const char* name;
-  Unit unit;
-  Op op;
-};
-constexpr FpUnit kFpUnits[] = {{"fp_add", Unit::FpAdd, Op::FAdd},
-                               {"fp_mul", Unit::FpMul, Op::FMul},
-                               {"fp_div", Unit::FpDiv, Op::FDiv},
-                               {"fp_sqrt", Unit::FpSqrt, Op::FSqrt},
-                               {"fp_cmp", Unit::FpCmp, Op::FCmp}};
+const std::vector<FpUnit>& fp_units() {
+  static const std::vector<FpUnit> u = {{"fp_add", Unit::FpAdd, static_cast<uint8_t>(Op::FAdd)},
+                                        {"fp_mul", Unit::FpMul, static_cast<uint8_t>(Op::FMul)},
+                                        {"fp_div", Unit::FpDiv, static_cast<uint8_t>(Op::FDiv)},
+                                        {"fp_sqrt", Unit::FpSqrt, static_cast<uint8_t>(Op::FSqrt)},
+                                        {"fp_cmp", Unit::FpCmp, static_cast<uint8_t>(Op::FCmp)}};
+  return u;
+}
 
 std::string header_line(const Config& c, bool fp) {
   const std::string fmt = c.format == "float" ? "e8m23" : c.format;
@@ -42,7 +39,7 @@ std::string header_line(const Config& c, bool fp) {
   o << kProtocol << " format=" << fmt << " tms=" << c.tms << " box=" << unit(Unit::Box, c.box)
     << " tri=" << unit(Unit::Tri, c.tri) << " noise=" << unit(Unit::Noise, c.noise);
   if (fp)
-    for (const FpUnit& u : kFpUnits) o << " " << u.name << "=" << unit(u.unit, "fp");
+    for (const FpUnit& u : fp_units()) o << " " << u.name << "=" << unit(u.unit, "fp");
   return o.str();
 }
 
@@ -68,7 +65,7 @@ std::vector<std::pair<const synth::UnitSpec*, synth::UnitConfig>> companion_unit
       noise::default_config(nu == "noise" ? noise::NoiseDatapath::kFull : noise::NoiseDatapath::kTrunc);
   v.push_back(at(nu.c_str(), Unit::Noise, {{"FracBits", nc.frac_bits}, {"IntBits", nc.int_bits}, {"OutW", nc.out_w}}));
   if (fp)
-    for (const FpUnit& u : kFpUnits) v.push_back(at(u.name, u.unit, {}));
+    for (const FpUnit& u : fp_units()) v.push_back(at(u.name, u.unit, {}));
   return v;
 }
 

@@ -48,6 +48,15 @@ struct Record {
 };
 static_assert(sizeof(Record) == 32, "cosim::Record layout");
 
+// The FP units of --cosim-fp: header key and registry unit name, chip unit class, operation; in
+// the order companion_units appends them.
+struct FpUnit {
+  const char* name;
+  Unit unit;
+  uint8_t op;  // trax::Op (thread.hpp)
+};
+const std::vector<FpUnit>& fp_units();
+
 // "rayunits-trax-cosim 1 format=e8m23 tms=4 box=plain:L:S tri=robust:L:S noise=fixed-trunc:L:S"
 // (L = latency, S = issue slots per TM = count x width; cfg must be resolved: resolve_config);
 // with fp (--cosim-fp) also " fp_add=fp:L:S fp_mul=fp:L:S fp_div=fp:L:S fp_sqrt=fp:L:S fp_cmp=fp:L:S".
