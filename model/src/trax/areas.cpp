@@ -423,7 +423,7 @@ Config resolve_config(const Config& in, std::vector<AreaSource>* sources) {
                           std::to_string(def) + " (units.texture.width = " + std::to_string(k.width) +
                           "): give units.texture.area a number");
     }
-    const bool fmtless = u == Unit::Noise || u == Unit::Texture || u == Unit::Int || u == Unit::Branch;
+    const bool fmtless = !synth::find_unit(sunit).uses_format;  // the registry says (noise, texture, int, branch)
     const std::string f = fmtless ? "-" : fmt;
     if (const Row* r = lookup(T, sunit, f, k.latency)) {
       k.area = r->area;
