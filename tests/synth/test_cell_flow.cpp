@@ -353,6 +353,9 @@ TEST(CellFlowCli, ErrorLines) {
                "--placement needs a cell-library flow (--flow osu018, osu035 or osu050)");
   expect_error("synth fp_add --format e5m10 --stages 1 --stage-periods",
                "--stage-periods needs a cell-library flow (--flow osu018, osu035 or osu050)");
+  expect_error("synth ray_tri_exact --format e5m10 --stages 2 --flow osu018 --stage-periods",
+               "--stage-periods: ray_tri_exact has a handshake (variable latency, registers outside its Stages "
+               "pipeline); per-stage periods need a fixed-latency pipeline (the critical path and period still apply)");
   // The list names the registry's units with their own placement (a unit added to the registry
   // joins it without touching this test); the FP units that have one are among them.
   std::string own;

@@ -625,6 +625,9 @@ SynthResult run_synth(const UnitSpec& u, const UnitConfig& c, const FlowOptions&
                        "(units with their own placement: " + with + ")");
     }
   }
+  if (o.stage_periods && u.handshake)
+    throw SynthError("--stage-periods: " + u.name + " has a handshake (variable latency, registers outside its Stages "
+                     "pipeline); per-stage periods need a fixed-latency pipeline (the critical path and period still apply)");
   if (!c.seg_weights.empty()) {
     if (!u.seg_weights_param) throw SynthError(u.name + " has no SegW parameter (segment weights)");
     if (static_cast<int>(c.seg_weights.size()) != u.max_stages(c) + 1)
