@@ -34,6 +34,8 @@ bool parse_render_command(int argc, char** argv, RenderCommand& c) {
                  "texture unit ru_texture, needs --noise fixed-trunc or fixed)");
   app.add_option("--box-format", c.opt.box_format,
                  "BVH node boxes stored in this narrower format eXmY, rounded outward (default: the --format's own boxes)");
+  app.add_flag("--fma", c.opt.fma,
+               "the shading's multiply-adds as fused multiply-adds, one rounding each (ru_fp_fma; std::fma natively)");
   app.add_option("--size", size, "image size WxH (or N)");
   app.add_option("--threads", threads, "render threads")->check(CLI::Range(1, 64));
   app.add_flag("--no-shadows", no_shadows, "primary rays only");
@@ -115,6 +117,7 @@ int run_render(int argc, char** argv) {
   if (compare) {
     render::RenderOptions ro = opt;
     ro.format = "double";
+    ro.fma = false;  // the reference is the plain double render, with or without --fma
     ro.noise = c.ref_noise;
     // a float-noise reference sums its octaves in the shader (the texture unit is fixed point)
     if (ro.noise == render::NoiseMode::Float) ro.texture = render::TextureImpl::Shader;

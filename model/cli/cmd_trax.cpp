@@ -47,10 +47,14 @@ int run_trax_cmd(int argc, char** argv) {
                "--cosim against a companion with exactly this chip's box, triangle and noise configurations (format, "
                "Stages), built or reused from the rtl build cache ($RU_RTL_CACHE, docs/SWEEPS.md)");
   app.add_flag("--cosim-fp", cosim_fp,
-               "with --cosim (implied): co-simulate the FP units too (fp_add, fp_mul, fp_div, fp_sqrt, fp_cmp: every "
+               "with --cosim (implied): co-simulate the FP units too (fp_add, fp_mul, fp_div, fp_sqrt, fp_cmp, and fp_fma with chip.fma: every "
                "FP operation of the kernel compared with their Verilated RTL)");
   app.add_option("--cosim-inject", cosim_inject,
                  "test only: flip bit 0 of the golden result of the N-th co-simulated operation (must be caught)");
+  std::string cosim_inject_op;
+  app.add_option("--cosim-inject-op", cosim_inject_op,
+                 "test only: with --cosim-inject, count only operations of this class (box, tri, noise, fadd, fmul, "
+                 "fdiv, fsqrt, fcmp, ffma)");
   if (!parse_args(app, argc, argv)) return 0;
 
   trax::Config cfg;
@@ -109,6 +113,16 @@ int run_trax_cmd(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) command += std::string(" ") + argv[i];
   if (cosim_build || cosim_fp) cosim = true;
   if (cosim_inject >= 0 && !cosim) throw UsageError("--cosim-inject needs --cosim");
+  int inject_op = -1;
+  if (!cosim_inject_op.empty()) {
+    if (cosim_inject < 0) throw UsageError("--cosim-inject-op needs --cosim-inject");
+    for (const trax::Op op : {trax::Op::Box, trax::Op::Tri, trax::Op::Noise, trax::Op::FAdd, trax::Op::FMul,
+                              trax::Op::FDiv, trax::Op::FSqrt, trax::Op::FCmp, trax::Op::FFma})
+      if (cosim_inject_op == trax::op_name(op)) inject_op = static_cast<int>(op);
+    if (inject_op < 0)
+      throw UsageError("--cosim-inject-op: unknown operation '" + cosim_inject_op +
+                       "' (accepted: box, tri, noise, fadd, fmul, fdiv, fsqrt, fcmp, ffma)");
+  }
   std::unique_ptr<trax::cosim::Client> client;
   if (cosim) {
     trax::Config rc;
@@ -125,7 +139,7 @@ int run_trax_cmd(int argc, char** argv) {
       synth::install_interrupt_handler();
       companion = rtl::ensure_cosim(req).exe;
     }
-    client = std::make_unique<trax::cosim::Client>(companion, cosim_inject, cosim_fp);
+    client = std::make_unique<trax::cosim::Client>(companion, cosim_inject, cosim_fp, inject_op);
     try {
       client->start(rc);
     } catch (const std::runtime_error& e) {

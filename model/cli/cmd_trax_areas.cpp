@@ -99,7 +99,7 @@ int run_trax_areas(int argc, char** argv) {
       "`rayunits trax areas`. Cell-flow rows (flow osu018): area_um2 of the area-oriented mapping at a "
       "1000 ns target and the OpenSTA Fmax that netlist reaches (fmax_mhz, before placement); the chip "
       "clock is the slowest used unit's fmax_mhz. nand2_cell: the NAND2X1 area read from the liberty, "
-      "used only to convert NAND2-eq estimates (memories, conv/int/branch) to um2 (estimates).";
+      "used only to convert NAND2-eq estimates (a configured units.NAME.area_nand2) to um2; the memories have their own model (docs/TRAX.md \"Memories\").";
   {
     // generic rows too are charged in um2 by the model (NAND2-eq x NAND2X1 of osu018: estimates)
     const synth::CellLibrary& lib = synth::cell_library(cell ? flow : "osu018");  // throws naming the package

@@ -104,6 +104,7 @@ const char* op_label(Op op) {
     case Op::FDiv: return "FDIV";
     case Op::FSqrt: return "FSQRT";
     case Op::FCmp: return "FCMP";
+    case Op::FFma: return "FFMA";
     default: return "?";
   }
 }
@@ -314,8 +315,9 @@ void configure(const std::string& header) {
   chip.unit(ru::trax::Unit::Box).latency = box.latency;
   chip.unit(ru::trax::Unit::Tri).latency = tri.latency;
   chip.unit(ru::trax::Unit::Noise).latency = noise.latency;
-  // --cosim-fp: the FP units, "fp_add=fp:L:S ..." (all five or none)
-  const auto& fpu = cosim::fp_units();  // the client's list: header keys, units, ops
+  // --cosim-fp: the FP units, "fp_add=fp:L:S ..." (all five or none; fp_fma with chip.fma)
+  chip.fma = kv.count("fp_fma") > 0;
+  const auto fpu = cosim::chip_fp_units(chip);  // the client's list: header keys, units, ops
   const bool fp = kv.count(fpu.front().name) > 0;
   std::vector<UnitSel> fps(fp ? fpu.size() : 0);
   for (size_t i = 0; i < fps.size(); ++i) {

@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <regex>
 #include <sstream>
 
 #include <nlohmann/json.hpp>
@@ -27,6 +28,8 @@
 #include "rayunits/units/ray_box.hpp"
 #include "rayunits/units/ray_tri.hpp"
 #include "../common/files.hpp"
+#include "../common/run_rayunits.hpp"
+#include "../common/temp_dir.hpp"
 
 using namespace ru::trax;
 
@@ -293,13 +296,18 @@ TEST(TraxAreas, CheckedInTableIsComplete) {
   for (const std::string& f : fmts) {
     Config c = default_config();
     c.format = f;
+    c.fma = true;  // the fp_fma unit too (chip.fma)
     std::vector<AreaSource> src;
     const Config r = resolve_config(c, &src);
     // every unit but the triangle unit (composed at most formats) measured: no estimate left
-    for (Unit u : {Unit::FpAdd, Unit::FpMul, Unit::FpDiv, Unit::FpSqrt, Unit::FpCmp, Unit::Conv, Unit::Int,
-                   Unit::Branch, Unit::Box, Unit::Noise})
+    for (Unit u : {Unit::FpAdd, Unit::FpMul, Unit::FpDiv, Unit::FpSqrt, Unit::FpCmp, Unit::FpFma, Unit::Conv,
+                   Unit::Int, Unit::Branch, Unit::Box, Unit::Noise})
       EXPECT_EQ(src[int(u)].how, "measured") << f << " " << unit_name(u);
     EXPECT_GT(r.clock_mhz, 0) << f;
+    c.fma = false;  // no fp_fma on the chip: no row needed, none charged
+    const Config n = resolve_config(c, &src);
+    EXPECT_EQ(n.unit(Unit::FpFma).area, 0) << f;
+    EXPECT_EQ(src[int(Unit::FpFma)].how, "not used (chip.fma = false)") << f;
   }
   for (const char* tri : {"robust", "mt"}) {
     Config c = default_config();
@@ -640,11 +648,40 @@ TEST(LongTraxAreas, MeasuresResumesAndReproducesTheCheckedInRows) {
   // bad input: one line, exit 2, nothing measured
   r = trax_areas("--units fp_add,fp_dot3 --out '" + out + "'");
   EXPECT_EQ(r.code, 2);
-  EXPECT_EQ(r.err, "rayunits trax areas: error: --units: 'fp_dot3' is not a TRaX unit (accepted: fp_add, fp_mul, "
-                   "fp_div, fp_sqrt, fp_cmp, fp_cvt, int_alu, branch, ray_box, ray_tri_robust, ray_tri_mt, noise_trunc, "
-                   "noise, texture)\n");
+  std::string accepted;
+  for (const std::string& u : area_table_units()) accepted += (accepted.empty() ? "" : ", ") + u;
+  EXPECT_NE(accepted.find("fp_fma"), std::string::npos);
+  EXPECT_EQ(r.err, "rayunits trax areas: error: --units: 'fp_dot3' is not a TRaX unit (accepted: " + accepted + ")\n");
   r = trax_areas("--flow osu999 --out '" + out + "'");
   EXPECT_EQ(r.code, 2);
   EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
   EXPECT_NE(r.err.find("unknown flow 'osu999'"), std::string::npos) << r.err;
+}
+
+// chip.fma with --cosim-fp (issue 16): the companion is built with ru_fp_fma at the chip's
+// latency (--cosim-build, a fresh rtl build cache), every fused result of the frame equals the
+// RTL's, and a planted bit flip in the 4th FFMA result sent stops the run naming the FFMA.
+TEST(LongTraxCosim, FmaChipResultsEqualTheRtlAndAPlantedFlipIsCaught) {
+  ru::test::TempDir d("ru_fma_cosim");
+  const std::string cfg = (d.p / "fma.toml").string();
+  std::ofstream(cfg) << "[chip]\nfma = true\n";
+  setenv("RU_RTL_CACHE", (d.p / "cache").c_str(), 1);
+  const std::vector<std::string> base = {"trax", "--scene", "noisy", "--size", "8x8", "--config", cfg,
+                                         "--cosim-fp", "--cosim-build", "--quiet"};
+  auto with = [&](std::vector<std::string> extra) {
+    std::vector<std::string> a = base;
+    a.insert(a.end(), extra.begin(), extra.end());
+    return ru::test::run_rayunits(a, 1800);
+  };
+  const auto ok = with({"--out", (d.p / "ok").string()});
+  EXPECT_EQ(ok.code, 0) << ok.out << ok.err;
+  const std::regex fma_count("fp_fma=([0-9]+)");
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(ok.out, m, fma_count)) << ok.out;
+  EXPECT_GT(std::stoull(m[1]), 1000u) << ok.out;
+  const auto bad = with({"--cosim-inject", "3", "--cosim-inject-op", "ffma", "--out", (d.p / "bad").string()});
+  unsetenv("RU_RTL_CACHE");
+  EXPECT_EQ(bad.code, 1) << bad.out << bad.err;
+  EXPECT_NE(bad.err.find("MISMATCH in cycle"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("RTL fp_fma_e8m23_s4"), std::string::npos) << bad.err;
 }

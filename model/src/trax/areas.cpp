@@ -272,7 +272,7 @@ const Row& fp_row_at(const Loaded& T, const Config& c, const char* unit, Unit wh
 
 const std::vector<std::string>& area_table_units() {
   static const std::vector<std::string> u = {"fp_add",  "fp_mul",     "fp_div",         "fp_sqrt",
-                                             "fp_cmp",  "fp_cvt",     "int_alu",        "branch",
+                                             "fp_cmp",  "fp_fma",     "fp_cvt",         "int_alu",        "branch",
                                              "ray_box", "ray_tri_robust", "ray_tri_mt", "noise_trunc",
                                              "noise",   "texture"};
   return u;
@@ -284,6 +284,7 @@ Unit area_table_unit(const std::string& u) {
   if (u == "fp_div") return Unit::FpDiv;
   if (u == "fp_sqrt") return Unit::FpSqrt;
   if (u == "fp_cmp") return Unit::FpCmp;
+  if (u == "fp_fma") return Unit::FpFma;
   if (u == "fp_cvt") return Unit::Conv;
   if (u == "int_alu") return Unit::Int;
   if (u == "branch") return Unit::Branch;
@@ -331,6 +332,7 @@ ChipClock sta_clock(const Config& c, const std::vector<AreaSource>& sources, con
   std::string untimed;
   for (int i = 0; i < kUnits; ++i) {
     if (!used.empty() && !used[i]) continue;
+    if (static_cast<Unit>(i) == Unit::FpFma && !c.fma) continue;  // not on the chip
     const UnitCfg& u = c.units[i];
     const char* name = unit_name(static_cast<Unit>(i));
     if (!(u.fmax_mhz > 0)) {
@@ -394,6 +396,13 @@ Config resolve_config(const Config& in, std::vector<AreaSource>* sources) {
       srcs.push_back(src);
       continue;
     }
+    if (u == Unit::FpFma && !c.fma) {  // the kernel issues no fma: no unit on the chip, no row needed
+      k.area = 0;
+      src.unit = "fp_fma";
+      src.how = "not used (chip.fma = false)";
+      srcs.push_back(src);
+      continue;
+    }
     if (k.area != kAreaSynth) {
       src.how = "configured";
       srcs.push_back(src);
@@ -406,6 +415,7 @@ Config resolve_config(const Config& in, std::vector<AreaSource>* sources) {
       case Unit::FpDiv: sunit = "fp_div"; break;
       case Unit::FpSqrt: sunit = "fp_sqrt"; break;
       case Unit::FpCmp: sunit = "fp_cmp"; break;
+      case Unit::FpFma: sunit = "fp_fma"; break;
       case Unit::Conv: sunit = "fp_cvt"; break;
       case Unit::Int: sunit = "int_alu"; break;
       case Unit::Branch: sunit = "branch"; break;

@@ -16,8 +16,8 @@
 namespace ru::trax {
 
 namespace {
-const char* const kUnitNames[kUnits] = {"fp_add", "fp_mul", "fp_div", "fp_sqrt", "fp_cmp", "conv",
-                                        "int",    "branch", "box",    "tri",     "noise",  "texture"};
+const char* const kUnitNames[kUnits] = {"fp_add", "fp_mul", "fp_div", "fp_sqrt", "fp_cmp", "fp_fma",
+                                        "conv",   "int",    "branch", "box",     "tri",    "noise", "texture"};
 
 std::string fmt_num(double v) {
   std::ostringstream o;
@@ -111,6 +111,8 @@ Config default_config() {
   c.unit(Unit::FpDiv) = {16, 1, 1, kAreaSynth, 0, 0};
   c.unit(Unit::FpSqrt) = {16, 1, 1, kAreaSynth, 0, 0};
   c.unit(Unit::FpCmp) = {1, 4, 1, kAreaSynth, 0, 0};
+  // ru_fp_fma at Stages 4 = the add and mul latencies it replaces; used only with chip.fma
+  c.unit(Unit::FpFma) = {4, 2, 1, kAreaSynth, 0, 0};
   c.unit(Unit::Conv) = {1, 2, 1, kAreaSynth, 0, 0};    // ru_fp_cvt (i2f, f2i) at the format, Stages 1
   c.unit(Unit::Int) = {1, 8, 1, kAreaSynth, 0, 0};     // ru_int_alu, IntW 32, Stages 1
   c.unit(Unit::Branch) = {1, 8, 1, kAreaSynth, 0, 0};  // ru_branch, IntW 32, PcW 32, Stages 1
@@ -224,13 +226,18 @@ Config parse_config(const std::string& text, const std::string& source, const Co
           if (!s) R.fail(key, "must be a string (\"\" or eXmY)");
           c.box_format = *s;
         }
+        else if (k == "fma") {
+          const auto b = v.value_exact<bool>();
+          if (!b) R.fail(key, "must be true or false");
+          c.fma = *b;
+        }
         else if (k == "local_store_bytes") c.local_store_bytes = static_cast<int>(R.integer(v, key, 0, 1 << 24));
         else if (k == "framebuffer_bytes_per_pixel")
           c.framebuffer_bytes_per_pixel = static_cast<int>(R.integer(v, key, 1, 64));
         else
           R.fail(key, "unknown key (accepted in [chip]: tms, tps_per_tm, clock_mhz, format, tri, box, noise, texture, "
                       "traversal, bvh, leaf_size, fp_registers_per_thread, int_registers_per_thread, "
-                      "local_store_bytes, framebuffer_bytes_per_pixel, scene_storage, box_format)");
+                      "local_store_bytes, framebuffer_bytes_per_pixel, scene_storage, box_format, fma)");
       }
     } else if (sec == "units") {
       for (const auto& [uk, uv] : R.table(sv, sec)) {
@@ -342,7 +349,7 @@ std::string to_toml(const Config& c) {
     << "\nfp_registers_per_thread = " << c.fp_registers_per_thread
     << "\nint_registers_per_thread = " << c.int_registers_per_thread << "\nlocal_store_bytes = " << c.local_store_bytes
     << "\nframebuffer_bytes_per_pixel = " << c.framebuffer_bytes_per_pixel << "\nscene_storage = \"" << c.scene_storage
-    << "\"\nbox_format = \"" << c.box_format << "\"\n";
+    << "\"\nbox_format = \"" << c.box_format << "\"\nfma = " << (c.fma ? "true" : "false") << "\n";
   for (int i = 0; i < kUnits; ++i) {
     const UnitCfg& u = c.units[i];
     o << "\n[units." << kUnitNames[i] << "]\nlatency = ";

@@ -25,8 +25,16 @@ const std::vector<FpUnit>& fp_units() {
                                         {"fp_mul", Unit::FpMul, static_cast<uint8_t>(Op::FMul)},
                                         {"fp_div", Unit::FpDiv, static_cast<uint8_t>(Op::FDiv)},
                                         {"fp_sqrt", Unit::FpSqrt, static_cast<uint8_t>(Op::FSqrt)},
-                                        {"fp_cmp", Unit::FpCmp, static_cast<uint8_t>(Op::FCmp)}};
+                                        {"fp_cmp", Unit::FpCmp, static_cast<uint8_t>(Op::FCmp)},
+                                        {"fp_fma", Unit::FpFma, static_cast<uint8_t>(Op::FFma)}};
   return u;
+}
+
+std::vector<FpUnit> chip_fp_units(const Config& c) {
+  std::vector<FpUnit> v;
+  for (const FpUnit& u : fp_units())
+    if (u.unit != Unit::FpFma || c.fma) v.push_back(u);
+  return v;
 }
 
 std::string header_line(const Config& c, bool fp) {
@@ -39,7 +47,7 @@ std::string header_line(const Config& c, bool fp) {
   o << kProtocol << " format=" << fmt << " tms=" << c.tms << " box=" << unit(Unit::Box, c.box)
     << " tri=" << unit(Unit::Tri, c.tri) << " noise=" << unit(Unit::Noise, c.noise);
   if (fp)
-    for (const FpUnit& u : fp_units()) o << " " << u.name << "=" << unit(u.unit, "fp");
+    for (const FpUnit& u : chip_fp_units(c)) o << " " << u.name << "=" << unit(u.unit, "fp");
   return o.str();
 }
 
@@ -65,7 +73,7 @@ std::vector<std::pair<const synth::UnitSpec*, synth::UnitConfig>> companion_unit
       noise::default_config(nu == "noise" ? noise::NoiseDatapath::kFull : noise::NoiseDatapath::kTrunc);
   v.push_back(at(nu.c_str(), Unit::Noise, {{"FracBits", nc.frac_bits}, {"IntBits", nc.int_bits}, {"OutW", nc.out_w}}));
   if (fp)
-    for (const FpUnit& u : fp_units()) v.push_back(at(u.name, u.unit, {}));
+    for (const FpUnit& u : chip_fp_units(c)) v.push_back(at(u.name, u.unit, {}));
   return v;
 }
 
@@ -166,7 +174,8 @@ void Client::issue(const UnitIssue& u) {
   r.op = static_cast<uint8_t>(u.op);
   r.nwords = static_cast<uint8_t>(nin + nout);
   put(&r, sizeof r);
-  if (inject_ >= 0 && sent_ == static_cast<uint64_t>(inject_)) {
+  const bool counted = inject_op_ < 0 || static_cast<int>(u.op) == inject_op_;
+  if (inject_ >= 0 && counted && sent_ == static_cast<uint64_t>(inject_)) {
     uint64_t w[32];
     std::memcpy(w, u.data, sizeof(uint64_t) * (nin + nout));
     w[nin + (u.op == Op::Box ? 1 : u.op == Op::Tri ? 2 : 0)] ^= 1;  // box t_enter, tri t, noise value, FP y
@@ -174,7 +183,7 @@ void Client::issue(const UnitIssue& u) {
   } else {
     put(u.data, sizeof(uint64_t) * (nin + nout));
   }
-  ++sent_;
+  if (counted) ++sent_;
 }
 
 Outcome Client::finish(uint64_t last_cycle) {

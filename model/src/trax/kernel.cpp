@@ -485,7 +485,7 @@ class RayWork : public WorkSource {
     out[0] = out[1] = out[2] = hit >= 0 ? 1.0f : 0.0f;
     uint32_t res = t.emit(Op::Int, {use(tt)});
     if (hit >= 0 && mode_ != "primary") {
-      const Vec3<TVal> p = render::kernel::vadd(r.o, render::kernel::vscale(r.d, tt));
+      const Vec3<TVal> p = tr_.vmadd(r.d, tt, r.o);
       TVal tmax;
       if (mode_ == "shadow") {
         ++shadow;
@@ -496,8 +496,8 @@ class RayWork : public WorkSource {
       } else {
         ++bounce;
         const auto& T = P.tris[hit];
-        Vec3<TVal> N = units::cross(units::vsub(T.p1, T.p0), units::vsub(T.p2, T.p0));
-        if (P.zero < units::dot(N, r.d)) N = render::kernel::vneg(N);
+        Vec3<TVal> N = tr_.cross(units::vsub(T.p1, T.p0), units::vsub(T.p2, T.p0));
+        if (P.zero < tr_.dot(N, r.d)) N = render::kernel::vneg(N);
         // a per-pixel pseudo-random unit vector (immediates: a hardware random source)
         uint64_t h = (item + 1) * 0x9E3779B97F4A7C15ull;
         double v[3], n2 = 0;
@@ -510,9 +510,9 @@ class RayWork : public WorkSource {
         Vec3<TVal> rv;
         for (int k = 0; k < 3; ++k) rv[k] = num::fp_cast<TVal>(v[k] / std::sqrt(n2 > 0 ? n2 : 1.0));
         // direction = N / |N| + rv (cosine-like lobe), folded into the hemisphere of N
-        const TVal inv_len = P.one / fp_sqrt(units::dot(N, N));
-        Vec3<TVal> dir = render::kernel::vadd(render::kernel::vscale(N, inv_len), rv);
-        if (!(P.zero < units::dot(dir, N))) dir = N;
+        const TVal inv_len = P.one / fp_sqrt(tr_.dot(N, N));
+        Vec3<TVal> dir = tr_.vmadd(N, inv_len, rv);
+        if (!(P.zero < tr_.dot(dir, N))) dir = N;
         const Ray b = tr_.make_ray(p, dir);
         tmax = num::fp_cast<TVal>(HUGE_VAL);
         tr_.intersect(b, P.shadow_min, tmax, false);
@@ -610,6 +610,7 @@ render::RenderOptions render_options(const Config& c, int width, int height) {
   o.texture = render::parse_texture(c.texture);
   o.leaf_size = c.leaf_size;
   o.box_format = c.box_format;
+  o.fma = c.fma;
   o.shadows = true;
   o.threads = 1;
   return o;

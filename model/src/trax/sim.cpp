@@ -17,7 +17,7 @@
 namespace ru::trax {
 
 const char* op_name(Op op) {
-  static const char* const n[kOps] = {"fadd", "fmul", "fdiv", "fsqrt", "fcmp", "conv", "int", "branch", "box",
+  static const char* const n[kOps] = {"fadd", "fmul", "fdiv", "fsqrt", "fcmp", "ffma", "conv", "int", "branch", "box",
                                       "tri",  "noise", "texture", "load", "ldlocal", "stlocal", "store", "atomic"};
   return n[static_cast<int>(op)];
 }

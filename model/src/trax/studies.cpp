@@ -59,6 +59,7 @@ StudyTable formats(const scene::Scene& s, const StudyOptions& o) {
   Config rc = o.base;
   render::RenderOptions ro = render_options(rc, o.width, o.height);
   ro.format = "double";
+  ro.fma = false;  // the plain double render, whatever chip.fma
   ro.threads = 2;
   say(o, "reference render in double");
   const render::Image ref = render::render(s, ro);

@@ -147,6 +147,20 @@ inline ru::num::Soft fp_sqrt(ru::num::Soft x) {
 }
 inline Probe fp_sqrt(Probe x) { return Probe::make(std::sqrt(x.v)); }
 
+// Fused multiply-add a*b + c and multiply-subtract a*b - c, one rounding in the type (Soft: the
+// format model's fma, ru_fp_fma's op 0 and 1; native: std::fma, the same IEEE operation, so an
+// e8m23 render with fma equals a float render with fma bit for bit).
+inline float fp_fma(float a, float b, float c) { return std::fma(a, b, c); }
+inline double fp_fma(double a, double b, double c) { return std::fma(a, b, c); }
+inline float fp_fms(float a, float b, float c) { return std::fma(a, b, -c); }
+inline double fp_fms(double a, double b, double c) { return std::fma(a, b, -c); }
+inline ru::num::Soft fp_fma(ru::num::Soft a, ru::num::Soft b, ru::num::Soft c) {
+  return ru::num::Soft::wrap(ru::num::fma(ru::num::soft_format(), a.bits, b.bits, c.bits));
+}
+inline ru::num::Soft fp_fms(ru::num::Soft a, ru::num::Soft b, ru::num::Soft c) { return fp_fma(a, b, -c); }
+inline Probe fp_fma(Probe a, Probe b, Probe c) { return Probe::make(std::fma(a.v, b.v, c.v)); }
+inline Probe fp_fms(Probe a, Probe b, Probe c) { return Probe::make(std::fma(a.v, b.v, -c.v)); }
+
 // floor: exact in every type (Soft: float-to-int conversion toward -inf and back, the two
 // conversions a hardware shader would issue; values >= 2^52 are already integers).
 inline float fp_floor(float x) { return std::floor(x); }

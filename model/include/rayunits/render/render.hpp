@@ -65,6 +65,10 @@ struct RenderOptions {
   // boxes (exact: min/max of stored vertices). check_box_format validates it.
   std::string box_format;
   NoiseMode noise = NoiseMode::Float;
+  // The shading's multiply-adds (ray points o + d t, colour blends, dot and cross products,
+  // octave sums, the camera's ray directions) as fused multiply-adds, one rounding each
+  // (ru_fp_fma; std::fma in float/double); false: a product and a sum, each rounded.
+  bool fma = false;
   TextureImpl texture = TextureImpl::Shader;
   bool shadows = true;
   int threads = 2;

@@ -160,10 +160,28 @@ class Tracer {
     Vec3<T> o, d, inv;
   };
 
+  // The shading's multiply-adds (RenderOptions::fma): a*b + c and a*b - c as one fused
+  // operation (fp_fma / fp_fms, ru_fp_fma) or as a product and a sum, each rounded; the vector
+  // forms a*s + c, the dot product ((x + y) + z, fused: fma(z, fma(y, x))) and the cross
+  // product (left product minus right product, fused: fms(left, right rounded)).
+  T madd(const T& a, const T& b, const T& c) const { return opt.fma ? fp_fma(a, b, c) : c + a * b; }
+  T msub(const T& a, const T& b, const T& c) const { return opt.fma ? fp_fms(a, b, c) : a * b - c; }
+  Vec3<T> vmadd(const Vec3<T>& a, const T& s, const Vec3<T>& c) const {
+    if (!opt.fma) return vadd(c, vscale(a, s));  // the three products, then the three sums
+    return {fp_fma(a.x, s, c.x), fp_fma(a.y, s, c.y), fp_fma(a.z, s, c.z)};
+  }
+  T dot(const Vec3<T>& u, const Vec3<T>& v) const {
+    return opt.fma ? fp_fma(u.z, v.z, fp_fma(u.y, v.y, u.x * v.x)) : units::dot(u, v);
+  }
+  Vec3<T> cross(const Vec3<T>& u, const Vec3<T>& v) const {
+    if (!opt.fma) return units::cross(u, v);
+    return {fp_fms(u.y, v.z, u.z * v.y), fp_fms(u.z, v.x, u.x * v.z), fp_fms(u.x, v.y, u.y * v.x)};
+  }
+
   // Primary ray direction through pixel centre (px, py) = (x + 0.5, y + 0.5).
   Vec3<T> primary_dir(const T& px, const T& py) const {
-    const Vec3<T> row = vadd(P.c, vscale(P.v, py));
-    return vadd(row, vscale(P.u, px));
+    const Vec3<T> row = vmadd(P.v, py, P.c);
+    return vmadd(P.u, px, row);
   }
 
   Ray make_ray(const Vec3<T>& o, const Vec3<T>& d) const {
@@ -451,7 +469,7 @@ class Tracer {
     T sum = P.zero, amp = P.one, f = P.one;
     for (int o = 0; o < n; ++o) {
       const T v = noise_at(vscale(q, f));
-      sum = sum + (absolute ? fp_abs(v) : v) * amp;
+      sum = madd(absolute ? fp_abs(v) : v, amp, sum);
       f = f * P.two;
       amp = amp * P.half;
     }
@@ -470,16 +488,16 @@ class Tracer {
                                    : M.kind == scene::MaterialKind::Wood ? noise::TextureMode::kWood
                                                                          : noise::TextureMode::kGranite;
       f = texture_at(m, M.kind == scene::MaterialKind::Wood ? 1 : M.octaves, q);
-      return vadd(M.c2, vscale(units::vsub(M.c1, M.c2), f));
+      return vmadd(units::vsub(M.c1, M.c2), f, M.c2);
     }
     switch (M.kind) {
       case scene::MaterialKind::Marble: {  // triangle wave across x, perturbed by turbulence
-        const T s = (q.x + turbulence(q, M.octaves) * fp_cast<T>(3.0)) * P.half;
-        f = fp_abs((s - fp_floor(s)) * P.two - P.one);
+        const T s = madd(turbulence(q, M.octaves), fp_cast<T>(3.0), q.x) * P.half;
+        f = fp_abs(msub(s - fp_floor(s), P.two, P.one));
         break;
       }
       case scene::MaterialKind::Wood: {  // rings around the vertical axis, perturbed by noise
-        const T r = fp_sqrt(q.x * q.x + q.y * q.y) + noise_at(q) * P.half;
+        const T r = madd(noise_at(q), P.half, fp_sqrt(madd(q.y, q.y, q.x * q.x)));
         const T g = r * P.two;
         f = g - fp_floor(g);
         f = f * f;
@@ -491,7 +509,7 @@ class Tracer {
         break;
       }
     }
-    return vadd(M.c2, vscale(units::vsub(M.c1, M.c2), f));
+    return vmadd(units::vsub(M.c1, M.c2), f, M.c2);
   }
 
   // The colour `behind` seen through the scene's volume (Fig. 4.1's smoke) along the primary ray
@@ -513,18 +531,18 @@ class Tracer {
     T tr = P.one, t = t0 + dt * P.half;
     Vec3<T> acc{P.zero, P.zero, P.zero};
     for (int i = 0; i < V.steps; ++i) {
-      const Vec3<T> q = vscale(vadd(r.o, vscale(r.d, t)), V.freq);
+      const Vec3<T> q = vscale(vmadd(r.d, t, r.o), V.freq);
       const T f = opt.texture == TextureImpl::Unit ? texture_at(noise::TextureMode::kFbm, V.octaves, q) : octave_sum(q, V.octaves, false);
       const T dens = f + V.bias;
       if (P.zero < dens) {
         T a = dens * V.density * dt;
         if (P.one < a) a = P.one;
-        acc = vadd(acc, vscale(V.color, tr * a));
+        acc = vmadd(V.color, tr * a, acc);
         tr = tr * (P.one - a);
       }
       t = t + dt;
     }
-    return vadd(acc, vscale(behind, tr));
+    return vmadd(behind, tr, acc);
   }
 
   // The shading of a primary hit up to its shadow ray (shade_hit) and after it (shade_finish):
@@ -542,14 +560,14 @@ class Tracer {
       return false;
     }
     const TriT<T>& tri = P.tris[hit];
-    const Vec3<T> p = vadd(r.o, vscale(r.d, t));
-    Vec3<T> N = units::cross(units::vsub(tri.p1, tri.p0), units::vsub(tri.p2, tri.p0));
-    if (P.zero < units::dot(N, r.d)) N = vneg(N);  // face the viewer (a sign flip, no rounding)
+    const Vec3<T> p = vmadd(r.d, t, r.o);
+    Vec3<T> N = cross(units::vsub(tri.p1, tri.p0), units::vsub(tri.p2, tri.p0));
+    if (P.zero < dot(N, r.d)) N = vneg(N);  // face the viewer (a sign flip, no rounding)
     sh->N = N;
     sh->C = material_color(P.tri_mat[hit], p);
     sh->color = vscale(sh->C, P.ka);
     sh->ld = units::vsub(P.light, p);
-    sh->illum = units::dot(N, sh->ld);
+    sh->illum = dot(N, sh->ld);
     if (!(P.zero < sh->illum)) return false;
     if (opt.shadows) {
       ++cnt.shadow;
@@ -559,8 +577,8 @@ class Tracer {
   }
   Vec3<T> shade_finish(const Shading& sh, bool occluded) const {
     if (occluded) return sh.color;
-    const T illum = sh.illum / (fp_sqrt(units::dot(sh.ld, sh.ld)) * fp_sqrt(units::dot(sh.N, sh.N)));
-    return vadd(sh.color, vscale(sh.C, illum * P.kd));
+    const T illum = sh.illum / (fp_sqrt(dot(sh.ld, sh.ld)) * fp_sqrt(dot(sh.N, sh.N)));
+    return vmadd(sh.C, illum * P.kd, sh.color);
   }
 
   // Colour of the pixel whose primary ray direction is d.

@@ -4,7 +4,7 @@
 // model/data/trax/default.toml and docs/TRAX.md):
 //   [chip]      tms, tps_per_tm, clock_mhz ("sta" or MHz), format, tri, box, noise, texture, traversal, bvh,
 //               leaf_size, fp_registers_per_thread, int_registers_per_thread, local_store_bytes,
-//               framebuffer_bytes_per_pixel, scene_storage, box_format
+//               framebuffer_bytes_per_pixel, scene_storage, box_format, fma
 //   [units.NAME] latency, count, width, area (um2 or "synth") | area_nand2 (an estimate in
 //               NAND2-eq)   NAME in unit_names() (per TM: count pipelined units, each accepting
 //               `width` operations per cycle, results after `latency`)
@@ -39,6 +39,7 @@ enum class Unit : uint8_t {
   FpDiv,      // div (the "inverse" unit of TRaX)
   FpSqrt,     // square root
   FpCmp,      // compare, min, max
+  FpFma,      // fused multiply-add / multiply-subtract (chip.fma = true; ru_fp_fma)
   Conv,       // float <-> int conversion
   Int,        // integer add/logic, sign flips (neg, abs), address arithmetic
   Branch,     // branches
@@ -108,6 +109,9 @@ struct Config {
   // BVH node boxes in a narrower format (render::RenderOptions::box_format: bounds rounded
   // outward; with scene_storage = "format" a node's box is packed at that width); "" = format.
   std::string box_format;
+  // The kernel's multiply-adds as fused multiply-adds on the fp_fma unit (render::RenderOptions::
+  // fma: one rounding each); false: FMUL + FADD, and no fp_fma unit on the chip.
+  bool fma = false;
   // [units.*]
   std::array<UnitCfg, kUnits> units{};
   // [atomic], [local_store]

@@ -56,10 +56,13 @@ struct FpUnit {
   uint8_t op;  // trax::Op (thread.hpp)
 };
 const std::vector<FpUnit>& fp_units();
+// The ones a chip has: fp_fma only with chip.fma (the kernel issues FFMA only then).
+std::vector<FpUnit> chip_fp_units(const Config& c);
 
 // "rayunits-trax-cosim 1 format=e8m23 tms=4 box=plain:L:S tri=robust:L:S noise=fixed-trunc:L:S"
 // (L = latency, S = issue slots per TM = count x width; cfg must be resolved: resolve_config);
-// with fp (--cosim-fp) also " fp_add=fp:L:S fp_mul=fp:L:S fp_div=fp:L:S fp_sqrt=fp:L:S fp_cmp=fp:L:S".
+// with fp (--cosim-fp) also " fp_add=fp:L:S fp_mul=fp:L:S fp_div=fp:L:S fp_sqrt=fp:L:S fp_cmp=fp:L:S"
+// and, with chip.fma, " fp_fma=fp:L:S".
 std::string header_line(const Config& cfg, bool fp = false);
 
 // The RTL configurations the companion must have for this resolved chip: ray_box (OptConservative
@@ -68,7 +71,8 @@ std::string header_line(const Config& cfg, bool fp = false);
 // model the chip runs), each in the chip's format at its latency as Stages — what
 // tb/trax/cosim_main.cpp looks for when it reads header_line(). `rayunits trax --cosim-build`
 // builds exactly these (rtl::ensure_cosim).
-// With fp, then fp_add, fp_mul, fp_div, fp_sqrt and fp_cmp in the chip's format at their latencies.
+// With fp, then fp_add, fp_mul, fp_div, fp_sqrt, fp_cmp (and fp_fma with chip.fma) in the chip's
+// format at their latencies (chip_fp_units).
 std::vector<std::pair<const synth::UnitSpec*, synth::UnitConfig>> companion_units(const Config& cfg, bool fp = false);
 
 // The companion next to this rayunits binary: $RU_TRAX_COSIM if set, else
@@ -85,8 +89,10 @@ class Client : public IssueObserver {
  public:
   // inject >= 0: planted error for the tests: the golden result of the inject-th co-simulated
   // operation (0-based) is sent with bit 0 flipped (box t_enter, tri t, noise value).
-  // fp: co-simulate the FP units too (--cosim-fp).
-  Client(std::string exe, int64_t inject = -1, bool fp = false) : exe_(std::move(exe)), inject_(inject), fp_(fp) {}
+  // fp: co-simulate the FP units too (--cosim-fp). inject_op (an Op, or -1 for any): count only
+  // the operations of that class (the inject-th FFMA, say).
+  Client(std::string exe, int64_t inject = -1, bool fp = false, int inject_op = -1)
+      : exe_(std::move(exe)), inject_(inject), inject_op_(inject_op), fp_(fp) {}
   ~Client() override;
   Client(const Client&) = delete;
   Client& operator=(const Client&) = delete;
@@ -106,8 +112,9 @@ class Client : public IssueObserver {
   void flush();
   std::string exe_;
   int64_t inject_ = -1;
+  int inject_op_ = -1;
   bool fp_ = false;
-  uint64_t sent_ = 0;
+  uint64_t sent_ = 0;  // operations counted for inject_ (of class inject_op_ if set)
   std::unique_ptr<util::Child> child_;  // the companion (util/process.hpp)
   int to_ = -1, from_ = -1;              // its stdin / stdout pipes (owned by child_)
   bool failed_ = false;

@@ -29,7 +29,7 @@
 namespace ru::trax {
 
 enum class Op : uint8_t {
-  FAdd = 0, FMul, FDiv, FSqrt, FCmp, Conv, Int, Branch,  // functional units (Unit of the same order)
+  FAdd = 0, FMul, FDiv, FSqrt, FCmp, FFma, Conv, Int, Branch,  // functional units (Unit of the same order)
   Box, Tri, Noise, Texture,
   Load,        // scene data through L1/L2/DRAM (dst = value)
   LoadLocal,   // per-thread local store (traversal stack)
@@ -48,6 +48,7 @@ inline Unit op_unit(Op op) {
     case Op::FDiv: return Unit::FpDiv;
     case Op::FSqrt: return Unit::FpSqrt;
     case Op::FCmp: return Unit::FpCmp;
+    case Op::FFma: return Unit::FpFma;
     case Op::Conv: return Unit::Conv;
     case Op::Int: return Unit::Int;
     case Op::Branch: return Unit::Branch;
@@ -83,10 +84,11 @@ struct Instr {
 //   FAdd  a, b, op (0 add, 1 sub) -> y      FMul a, b -> y      FDiv a, b -> y      FSqrt a -> y
 //   FCmp  a, b, op (0 lt, 1 le, 2 eq, 3 min, 4 max) -> y (lt/le/eq: 0 or 1, the predicate the
 //         branch reads; a > b is lt(b, a), a != b is eq(a, b) with the branch inverted)
+//   FFma  a, b, c, op (0 a*b+c, 1 a*b-c) -> y
 constexpr int kBoxIn = 14, kBoxOut = 3, kTriIn = 17, kTriOut = 5, kNoiseIn = 3, kNoiseOut = 1, kTextureIn = 5,
               kTextureOut = 1;
 inline bool fp_unit_op(Op op) {
-  return op == Op::FAdd || op == Op::FMul || op == Op::FDiv || op == Op::FSqrt || op == Op::FCmp;
+  return op == Op::FAdd || op == Op::FMul || op == Op::FDiv || op == Op::FSqrt || op == Op::FCmp || op == Op::FFma;
 }
 inline int unit_inputs(Op op) {
   switch (op) {
@@ -94,6 +96,7 @@ inline int unit_inputs(Op op) {
     case Op::Tri: return kTriIn;
     case Op::Noise: return kNoiseIn;
     case Op::Texture: return kTextureIn;
+    case Op::FFma: return 4;
     case Op::FAdd: case Op::FCmp: return 3;
     case Op::FMul: case Op::FDiv: return 2;
     case Op::FSqrt: return 1;
@@ -124,6 +127,7 @@ inline const std::vector<UnitWords>& unit_words(Op op) {
   static const std::vector<UnitWords> fp_op = {{"a_i", 1}, {"b_i", 1}, {"op_i", 1}, {"y_o", 1}};  // fp_add, fp_cmp
   static const std::vector<UnitWords> fp_ab = {{"a_i", 1}, {"b_i", 1}, {"y_o", 1}};               // fp_mul, fp_div
   static const std::vector<UnitWords> fp_a = {{"a_i", 1}, {"y_o", 1}};                            // fp_sqrt
+  static const std::vector<UnitWords> fp_abc = {{"a_i", 1}, {"b_i", 1}, {"c_i", 1}, {"op_i", 1}, {"y_o", 1}};  // fp_fma
   static const std::vector<UnitWords> none;
   switch (op) {
     case Op::Box: return box;
@@ -133,6 +137,7 @@ inline const std::vector<UnitWords>& unit_words(Op op) {
     case Op::FAdd: case Op::FCmp: return fp_op;
     case Op::FMul: case Op::FDiv: return fp_ab;
     case Op::FSqrt: return fp_a;
+    case Op::FFma: return fp_abc;
     default: return none;
   }
 }
@@ -188,7 +193,7 @@ class Thread {
     s_->code.push_back(in);
     // FP arithmetic results are values of the format; other producers are marked where a
     // format value is known to come out (mark_fp: scene loads, BOX/TRI t, conversions to FP)
-    if (op == Op::FAdd || op == Op::FMul || op == Op::FDiv || op == Op::FSqrt || op == Op::Noise ||
+    if (op == Op::FAdd || op == Op::FMul || op == Op::FDiv || op == Op::FSqrt || op == Op::FFma || op == Op::Noise ||
         op == Op::Texture)
       mark_fp(in.dst);
     return in.dst;
@@ -266,11 +271,11 @@ inline void fp_record(Thread& t, Op op, std::initializer_list<const TVal*> src, 
   uint64_t w[5];
   int n = 0;
   for (const TVal* p : src) w[n++] = p->v.bits;
-  if (op == Op::FAdd || op == Op::FCmp) w[n++] = code;
+  if (op == Op::FAdd || op == Op::FCmp || op == Op::FFma) w[n++] = code;
   w[n++] = y;
   t.attach(w, n);
 }
-// code: the unit's op_i (fp_add 1 = sub; fp_cmp 3 = min, 4 = max).
+// code: the unit's op_i (fp_add 1 = sub; fp_cmp 3 = min, 4 = max; fp_fma 1 = a*b-c).
 inline TVal result(Op op, num::Soft v, std::initializer_list<const TVal*> src, uint64_t code = 0) {
   TVal r;
   r.v = v;
@@ -316,6 +321,12 @@ inline TVal fp_canon(const TVal& x) { return x; }
 inline TVal fp_abs(const TVal& x) { return detail::result(Op::Int, num::fp_abs(x.v), {&x}); }  // clear sign bit
 inline TVal fp_min(const TVal& a, const TVal& b) { return detail::result(Op::FCmp, num::fp_min(a.v, b.v), {&a, &b}, 3); }
 inline TVal fp_max(const TVal& a, const TVal& b) { return detail::result(Op::FCmp, num::fp_max(a.v, b.v), {&a, &b}, 4); }
+inline TVal fp_fma(const TVal& a, const TVal& b, const TVal& c) {
+  return detail::result(Op::FFma, render::fp_fma(a.v, b.v, c.v), {&a, &b, &c});
+}
+inline TVal fp_fms(const TVal& a, const TVal& b, const TVal& c) {
+  return detail::result(Op::FFma, render::fp_fms(a.v, b.v, c.v), {&a, &b, &c}, 1);
+}
 inline TVal fp_sqrt(const TVal& x) { return detail::result(Op::FSqrt, render::fp_sqrt(x.v), {&x}); }
 // floor = float->int (toward -inf) and int->float: two conversions, as render::fp_floor(Soft).
 inline TVal fp_floor(const TVal& x) {
