@@ -148,6 +148,7 @@ int run_render(int argc, char** argv) {
     j["width"] = opt.width;
     j["height"] = opt.height;
     j["shadows"] = opt.shadows;
+    j["fma"] = opt.fma;
     j["png"] = out;
     if (compare) j["vs_double"] = vs_double;
     synth::write_file_atomic(json_out, j.dump() + "\n");

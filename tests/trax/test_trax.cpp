@@ -456,6 +456,53 @@ TEST(TraxArea, MemoryModelByHand) {
   }
 }
 
+// Memory access energy ([energy], docs/TRAX.md "Memory access energy"), by hand. The law at
+// Horowitz's published points: a 64-bit read of 8 KB 10 pJ, 32 KB 20 pJ, 1 MB 100 pJ (the square
+// root gives 113.1, within 13 %). One item: a scene load (1 FP write), an FP add of it with itself
+// (2 FP reads, 1 FP write), a local store of the sum (1 FP read), an integer op on the item
+// register (1 int read, 1 int write). With the defaults (e8m23):
+//   FP file 96 x 32 bits = 384 B: 10 sqrt(384 / 8192) 32 / 64 = 1.0825318 pJ x 5 accesses
+//   int file 32 x 32 bits = 128 B: 10 sqrt(1 / 64) / 2 = 0.625 pJ x 2
+//   local store 512 B, 64 bits: 10 sqrt(1 / 16) = 2.5 pJ x 1
+//   L1 32 KiB, a 32-bit value: 10 x 2 / 2 = 10 pJ x 1 (a miss)
+//   L2 512 KiB, a 512-bit line: 10 x 8 x 8 = 640 pJ x 1
+//   DRAM 64 B x 8 x 20.3125 = 10,400 pJ
+TEST(TraxEnergy, MemoryAccessEnergyByHand) {
+  Config c = tiny();
+  EXPECT_DOUBLE_EQ(sram_access_pj(c, 8192, 64), 10.0);
+  EXPECT_DOUBLE_EQ(sram_access_pj(c, 32768, 64), 20.0);
+  EXPECT_NEAR(sram_access_pj(c, 1 << 20, 64), 113.137, 1e-3);
+  FunctionWork w(1, [](uint64_t, Thread& t) {
+    const uint32_t a = t.mark_fp(t.load(0x1000));
+    const uint32_t b = t.emit(Op::FAdd, {a, a});
+    t.emit(Op::StoreLocal, {b}, false);
+    t.emit(Op::Int, {Thread::kItemReg});
+  });
+  c = resolve_config(c);
+  const SimStats st = simulate(c, w);
+  EXPECT_EQ(st.rf_reads_fp, 3u);
+  EXPECT_EQ(st.rf_writes_fp, 2u);
+  EXPECT_EQ(st.rf_reads_int, 1u);
+  EXPECT_EQ(st.rf_writes_int, 1u);
+  EXPECT_EQ(st.dram_read_bytes + st.dram_write_bytes, 64u);
+  const Energy e = energy_estimate(c, st);
+  ASSERT_EQ(e.items.size(), 6u);
+  const double want[6][2] = {{5, 1.0825318}, {2, 0.625}, {1, 2.5}, {1, 10}, {1, 640}, {64, 162.5}};
+  double total = 0;
+  for (int k = 0; k < 6; ++k) {
+    EXPECT_EQ(e.items[k].accesses, static_cast<uint64_t>(want[k][0])) << e.items[k].name;
+    EXPECT_NEAR(e.items[k].pj_each, want[k][1], 1e-6) << e.items[k].name;
+    total += want[k][0] * want[k][1];
+  }
+  EXPECT_NEAR(e.total_pj, total, 1e-4);
+  EXPECT_NEAR(total, 11059.16, 0.01);
+  // the word layout charges a 32-bit word per load at any format; e5m10 packs 16 bits
+  c.format = "e5m10";
+  EXPECT_NEAR(energy_estimate(c, st).items[3].pj_each, 5.0, 1e-12);
+  c.scene_storage = "word";
+  EXPECT_NEAR(energy_estimate(c, st).items[3].pj_each, 10.0, 1e-12);
+}
+
 TEST(TraxConfig, BadKeysGiveOneLineNamingTheKey) {
   auto msg = [](const std::string& text) -> std::string {
     try {
@@ -475,6 +522,9 @@ TEST(TraxConfig, BadKeysGiveOneLineNamingTheKey) {
   EXPECT_NE(msg("[cache]\nsize = 1\n").find("key 'cache'"), std::string::npos);
   EXPECT_NE(msg("[l2]\nsize = 1000\n").find("key 'l2.size'"), std::string::npos);
   EXPECT_NE(msg("[chip\n").find("t.toml: line 1"), std::string::npos);
+  EXPECT_NE(msg("[energy]\ndram_pj = 3\n").find("key 'energy.dram_pj'"), std::string::npos);
+  EXPECT_NE(msg("[energy]\nsram_capacity_exponent = 3\n").find("key 'energy.sram_capacity_exponent'"), std::string::npos);
+  EXPECT_NE(msg("[chip]\nfma = 1\n").find("key 'chip.fma': must be true or false"), std::string::npos);
   for (const char* t : {"[l1]\nbanks = 3\n", "[chip]\ncolour = 1\n"}) EXPECT_EQ(msg(t).find('\n'), std::string::npos);
   EXPECT_EQ(msg("[chip]\ntms = 2\n"), "");
   EXPECT_THROW(load_config("/nonexistent/trax.toml"), ConfigError);
@@ -488,7 +538,10 @@ TEST(TraxConfig, DefaultFileMatchesBuiltInAndRoundTrips) {
   c.unit(Unit::Tri).latency = 31;
   c.l2.ways = 4;
   c.dram_bytes_per_cycle = 12.5;
+  c.fma = true;
+  c.dram_pj_per_bit = 41.0;
   EXPECT_EQ(to_toml(parse_config(to_toml(c), "rt")), to_toml(c));
+  EXPECT_TRUE(parse_config(to_toml(c), "rt").fma);
 }
 
 TEST(TraxReport, SummaryLineFormat) {

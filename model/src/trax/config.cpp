@@ -317,8 +317,17 @@ Config parse_config(const std::string& text, const std::string& source, const Co
           R.fail(key, "unknown key (accepted in [area]: feature_um, sram_cell_f2, sram_cell_aspect, wire_pitch_f, "
                       "array_efficiency, regfile_read_ports, regfile_write_ports, address_bits)");
       }
+    } else if (sec == "energy") {
+      for (const auto& [k, v] : R.table(sv, sec)) {
+        const std::string key = sec + "." + std::string(k.str());
+        if (k == "sram_pj_64b_8kib") c.sram_pj_64b_8kib = R.number(v, key, 0, 1e6);
+        else if (k == "sram_capacity_exponent") c.sram_capacity_exponent = R.number(v, key, 0, 2);
+        else if (k == "dram_pj_per_bit") c.dram_pj_per_bit = R.number(v, key, 0, 1e6);
+        else
+          R.fail(key, "unknown key (accepted in [energy]: sram_pj_64b_8kib, sram_capacity_exponent, dram_pj_per_bit)");
+      }
     } else {
-      R.fail(sec, "unknown section (accepted: chip, units, atomic, local_store, l1, l2, dram, area)");
+      R.fail(sec, "unknown section (accepted: chip, units, atomic, local_store, l1, l2, dram, area, energy)");
     }
   }
   c.validate(source);
@@ -379,6 +388,8 @@ std::string to_toml(const Config& c) {
     << "\nsram_cell_aspect = " << real(c.sram_cell_aspect) << "\nwire_pitch_f = " << real(c.wire_pitch_f)
     << "\narray_efficiency = " << real(c.array_efficiency) << "\nregfile_read_ports = " << c.regfile_read_ports
     << "\nregfile_write_ports = " << c.regfile_write_ports << "\naddress_bits = " << c.address_bits << "\n";
+  o << "\n[energy]\nsram_pj_64b_8kib = " << real(c.sram_pj_64b_8kib) << "\nsram_capacity_exponent = "
+    << real(c.sram_capacity_exponent) << "\ndram_pj_per_bit = " << real(c.dram_pj_per_bit) << "\n";
   return o.str();
 }
 

@@ -706,6 +706,7 @@ TraxResult run_trax(const scene::Scene& s, const Config& c_in, int width, int he
   R.up_steps = C.up_steps;
   R.max_stack = C.max_stack;
   R.area = area_estimate(c, R.sim, &sources);
+  R.energy = energy_estimate(c, R.sim);
   if (c_in.clock_mhz == kClockSta) {
     // The clock of the chip that is built: the units the kernel used (the area model charges
     // exactly those), each at its STA Fmax; cycles do not depend on the clock.

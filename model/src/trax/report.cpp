@@ -68,6 +68,32 @@ Area area_estimate(const Config& c, const SimStats& st, const std::vector<AreaSo
   return a;
 }
 
+double sram_access_pj(const Config& c, double bytes, double bits) {
+  return c.sram_pj_64b_8kib * std::pow(bytes / 8192.0, c.sram_capacity_exponent) * bits / 64.0;
+}
+
+Energy energy_estimate(const Config& c, const SimStats& st) {
+  Energy e;
+  const double fbits = c.value_bits();
+  const double load_bits = c.scene_storage == "word" ? 8.0 * c.value_bytes() : fbits;
+  const uint64_t local = st.op_count[static_cast<int>(Op::LoadLocal)] + st.op_count[static_cast<int>(Op::StoreLocal)];
+  e.items = {
+      {"FP register file accesses (" + std::to_string(c.fp_registers_per_thread) + " x " + std::to_string(int(fbits)) + " bits)",
+       st.rf_reads_fp + st.rf_writes_fp, sram_access_pj(c, c.fp_registers_per_thread * fbits / 8, fbits)},
+      {"integer register file accesses (" + std::to_string(c.int_registers_per_thread) + " x 32 bits)",
+       st.rf_reads_int + st.rf_writes_int, sram_access_pj(c, c.int_registers_per_thread * 4.0, 32)},
+      {"local store accesses (" + std::to_string(c.local_store_bytes) + " B, 64 bits)", local,
+       sram_access_pj(c, c.local_store_bytes, 64)},
+      {"L1 accesses (" + std::to_string(c.l1.size) + " B, " + std::to_string(int(load_bits)) + " bits)", st.l1.accesses,
+       sram_access_pj(c, double(c.l1.size), load_bits)},
+      {"L2 accesses (" + std::to_string(c.l2.size) + " B, " + std::to_string(8 * c.l1.line) + "-bit line fills)",
+       st.l2.accesses, sram_access_pj(c, double(c.l2.size), 8.0 * c.l1.line)},
+      {"DRAM bytes (read + write)", st.dram_read_bytes + st.dram_write_bytes, 8 * c.dram_pj_per_bit},
+  };
+  for (const auto& it : e.items) e.total_pj += it.total();
+  return e;
+}
+
 namespace {
 std::string num(double v, const char* fmt = "%.6g") {
   char b[64];
@@ -163,6 +189,13 @@ std::string summary_json(const TraxResult& r, const std::string& scene_name, con
   o["area_um2"] = {{"total", r.area.total}, {"units", r.area.units}, {"memories", r.area.memories},
                    {"estimated", r.area.estimated}, {"nand2_um2", c.nand2_um2}, {"items", items}};
   o["rays_per_s_per_mm2"] = r.area.total > 0 ? r.rays_per_second() / (r.area.total / 1e6) : 0.0;
+  J eitems = J::array();
+  for (const auto& it : r.energy.items)
+    eitems.push_back({{"name", it.name}, {"accesses", it.accesses}, {"pj_each", it.pj_each}, {"total_pj", it.total()}});
+  o["memory_energy_pj"] = {{"total", r.energy.total_pj},
+                           {"per_ray", r.rays() ? r.energy.total_pj / double(r.rays()) : 0.0},
+                           {"estimate", "Horowitz ISSCC 2014 constants at 45 nm ([energy], docs/TRAX.md \"Memory access energy\")"},
+                           {"items", eitems}};
   o["host_seconds"] = s.host_seconds;
   o["host_instructions_per_s"] = s.host_seconds > 0 ? double(s.instructions) / s.host_seconds : 0.0;
   return o.dump(2) + "\n";
@@ -242,6 +275,15 @@ std::string summary_md(const TraxResult& r, const std::string& scene_name, const
           << (a.fmax_mhz > 0 ? ", Fmax " + num(a.fmax_mhz, "%.1f") + " MHz (" + a.fmax_how + ")" : std::string(", not timed"))
           << (a.detail.empty() ? "" : " -- `" + a.detail + "`") << "\n";
   }
+  o << "\n## Memory access energy (estimate: Horowitz's 45 nm constants, " << num(c.sram_pj_64b_8kib, "%g")
+    << " pJ per 64 bits at 8 KiB x (C / 8 KiB)^" << num(c.sram_capacity_exponent, "%g") << ", DRAM "
+    << num(c.dram_pj_per_bit, "%g") << " pJ/bit; docs/TRAX.md \"Memory access energy\")\n\n"
+    << "| structure | accesses | pJ each | total (uJ) | share |\n|---|---:|---:|---:|---:|\n";
+  for (const auto& it : r.energy.items)
+    o << "| " << it.name << " | " << it.accesses << " | " << num(it.pj_each, "%.3g") << " | " << num(it.total() / 1e6, "%.4g")
+      << " | " << num(r.energy.total_pj > 0 ? 100 * it.total() / r.energy.total_pj : 0, "%.1f") << " % |\n";
+  o << "| **total** | | | **" << num(r.energy.total_pj / 1e6, "%.4g") << "** (" << num(r.rays() ? r.energy.total_pj / r.rays() : 0, "%.4g")
+    << " pJ per ray) | |\n";
   o << "\n## Instruction mix\n\n| op | count |\n|---|---:|\n";
   for (int i = 0; i < kOps; ++i)
     if (s.op_count[i]) o << "| " << op_name(static_cast<Op>(i)) << " | " << s.op_count[i] << " |\n";

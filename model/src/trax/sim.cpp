@@ -339,6 +339,11 @@ class Machine {
         p.from_mem[in.dst] = is_mem;
       }
       last_ = std::max(last_, ready);
+      {
+        const auto is_fp = [&](uint32_t r) { return r < p.s.fp.size() && p.s.fp[r]; };
+        for (uint32_t k = 0; k < in.nsrc; ++k) ++(is_fp(p.s.srcs[in.src + k]) ? st.rf_reads_fp : st.rf_reads_int);
+        if (in.dst) ++(is_fp(in.dst) ? st.rf_writes_fp : st.rf_writes_int);
+      }
       ++st.instructions;
       ++st.op_count[static_cast<int>(in.op)];
       if (++p.pc == p.s.code.size()) p.active = false;

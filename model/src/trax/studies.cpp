@@ -55,7 +55,7 @@ StudyTable formats(const scene::Scene& s, const StudyOptions& o) {
             "unit_area_mm2", "estimated_mm2", "rays_per_s_per_mm2", "rays_per_s_per_unit_mm2", "error_pixels", "error_pct", "psnr_db",
             "tolerated", "box_latency", "tri_latency", "box_area_source", "tri_area_source", "clock_source",
             "memory_mm2", "value_bits", "node_bytes", "tri_bytes", "l1_hit_pct", "l2_hit_pct", "dram_bytes_per_ray",
-            "cycles_word", "dram_bytes_per_ray_word"};
+            "cycles_word", "dram_bytes_per_ray_word", "memory_pj_per_ray", "memory_pj_per_ray_word"};
   Config rc = o.base;
   render::RenderOptions ro = render_options(rc, o.width, o.height);
   ro.format = "double";
@@ -82,6 +82,9 @@ StudyTable formats(const scene::Scene& s, const StudyOptions& o) {
     auto dram_per_ray = [](const TraxResult& x) {
       return f(double(x.sim.dram_read_bytes + x.sim.dram_write_bytes) / double(std::max<uint64_t>(1, x.rays())), "%.1f");
     };
+    auto pj_per_ray = [](const TraxResult& x) {
+      return f(x.energy.total_pj / double(std::max<uint64_t>(1, x.rays())), "%.4g");
+    };
     const render::ImageDiff d = render::compare(r.image, ref);
     const double pct = d.pixels ? 100.0 * double(d.errors) / double(d.pixels) : 0;
     const bool ok = pct <= 0.1 && d.psnr >= 40.0;
@@ -93,7 +96,7 @@ StudyTable formats(const scene::Scene& s, const StudyOptions& o) {
                       source_of(r, r.cfg.tri == "mt" ? "ray_tri_mt" : "ray_tri_robust"), r.clock.how,
                       mm2(r.area.memories), i(r.value_bits), i(r.node_bytes), i(r.tri_bytes),
                       f(100 * r.sim.l1.hit_rate(), "%.2f"), f(100 * r.sim.l2.hit_rate(), "%.2f"), dram_per_ray(r),
-                      i(w.sim.cycles), dram_per_ray(w)});
+                      i(w.sim.cycles), dram_per_ray(w), pj_per_ray(r), pj_per_ray(w)});
     pts.push_back({fm, F.width(), ok, r.cfg.clock_mhz, double(r.sim.cycles), double(w.sim.cycles), r.area.units,
                    r.area.memories, per_area(r)});
   }
@@ -135,7 +138,9 @@ StudyTable formats(const scene::Scene& s, const StudyOptions& o) {
            "rays_per_s_per_unit_mm2 counts the functional units only); scene data stored in the format "
            "(value_bits per value, node_bytes per BVH node, tri_bytes per triangle; cache hit rates and DRAM bytes "
            "per ray of that layout), cycles_word and dram_bytes_per_ray_word: the same chip with every scene value "
-           "in a 32-bit word (chip.scene_storage = \"word\", the layout before issue 16); "
+           "in a 32-bit word (chip.scene_storage = \"word\", the layout before issue 16); memory_pj_per_ray "
+           "(_word): memory access energy per ray, register files to DRAM (an estimate with Horowitz's 45 nm "
+           "constants, docs/TRAX.md \"Memory access energy\"); "
            "rays/s at the chip clock = the STA Fmax of the slowest used unit at its Stages (clock_unit; "
            "clock_source says whether it is measured or estimated), docs/TRAX.md." + gain;
   return t;

@@ -160,12 +160,11 @@ class Tracer {
     Vec3<T> o, d, inv;
   };
 
-  // The shading's multiply-adds (RenderOptions::fma): a*b + c and a*b - c as one fused
-  // operation (fp_fma / fp_fms, ru_fp_fma) or as a product and a sum, each rounded; the vector
-  // forms a*s + c, the dot product ((x + y) + z, fused: fma(z, fma(y, x))) and the cross
-  // product (left product minus right product, fused: fms(left, right rounded)).
-  T madd(const T& a, const T& b, const T& c) const { return opt.fma ? fp_fma(a, b, c) : c + a * b; }
-  T msub(const T& a, const T& b, const T& c) const { return opt.fma ? fp_fms(a, b, c) : a * b - c; }
+  // The shading's multiply-adds (RenderOptions::fma): fused (fp_fma / fp_fms, ru_fp_fma, one
+  // rounding) or a product and a sum, each rounded -- the vector form a*s + c, the dot product
+  // ((x + y) + z; fused: fma(z, fma(y, x))) and the cross product (left product minus right
+  // product; fused: fms(left, right rounded)); the scalar sites write both forms out, the
+  // unfused one exactly as before issue 16 (the same instructions in the same order).
   Vec3<T> vmadd(const Vec3<T>& a, const T& s, const Vec3<T>& c) const {
     if (!opt.fma) return vadd(c, vscale(a, s));  // the three products, then the three sums
     return {fp_fma(a.x, s, c.x), fp_fma(a.y, s, c.y), fp_fma(a.z, s, c.z)};
@@ -469,7 +468,7 @@ class Tracer {
     T sum = P.zero, amp = P.one, f = P.one;
     for (int o = 0; o < n; ++o) {
       const T v = noise_at(vscale(q, f));
-      sum = madd(absolute ? fp_abs(v) : v, amp, sum);
+      sum = opt.fma ? fp_fma(absolute ? fp_abs(v) : v, amp, sum) : sum + (absolute ? fp_abs(v) : v) * amp;
       f = f * P.two;
       amp = amp * P.half;
     }
@@ -492,12 +491,15 @@ class Tracer {
     }
     switch (M.kind) {
       case scene::MaterialKind::Marble: {  // triangle wave across x, perturbed by turbulence
-        const T s = madd(turbulence(q, M.octaves), fp_cast<T>(3.0), q.x) * P.half;
-        f = fp_abs(msub(s - fp_floor(s), P.two, P.one));
+        const T s = (opt.fma ? fp_fma(turbulence(q, M.octaves), fp_cast<T>(3.0), q.x)
+                             : q.x + turbulence(q, M.octaves) * fp_cast<T>(3.0)) *
+                    P.half;
+        f = fp_abs(opt.fma ? fp_fms(s - fp_floor(s), P.two, P.one) : (s - fp_floor(s)) * P.two - P.one);
         break;
       }
       case scene::MaterialKind::Wood: {  // rings around the vertical axis, perturbed by noise
-        const T r = madd(noise_at(q), P.half, fp_sqrt(madd(q.y, q.y, q.x * q.x)));
+        const T r = opt.fma ? fp_fma(noise_at(q), P.half, fp_sqrt(fp_fma(q.y, q.y, q.x * q.x)))
+                            : fp_sqrt(q.x * q.x + q.y * q.y) + noise_at(q) * P.half;
         const T g = r * P.two;
         f = g - fp_floor(g);
         f = f * f;

@@ -15,6 +15,8 @@
 //   [area]      feature_um, sram_cell_f2, sram_cell_aspect, wire_pitch_f, array_efficiency,
 //               regfile_read_ports, regfile_write_ports, address_bits (the memory model:
 //               CACTI's SRAM cell and its growth per port, docs/TRAX.md "Memories")
+//   [energy]    sram_pj_64b_8kib, sram_capacity_exponent, dram_pj_per_bit (memory access energy:
+//               Horowitz, ISSCC 2014, 45 nm; docs/TRAX.md "Memory access energy")
 // A bad file gives ConfigError with one line naming the key: "trax config FILE: key
 // 'l1.banks': must be a power of two in 1..1024 (got 3)"; unknown keys are errors too.
 #pragma once
@@ -132,6 +134,15 @@ struct Config {
   double array_efficiency = 0.5;   // bit-cell area / array area (assumption)
   int regfile_read_ports = 2, regfile_write_ports = 1;  // a TP's register files
   int address_bits = 32;           // cache tags: address bits - index - offset, + a valid bit
+  // [energy] memory access energy (docs/TRAX.md "Memory access energy"; an estimate at the
+  // published 45 nm / 0.9 V node, not osu018's): an SRAM access of w bits to an array of C bytes
+  // costs sram_pj_64b_8kib x (C / 8 KiB)^sram_capacity_exponent x w / 64 pJ -- Horowitz (ISSCC
+  // 2014, "Computing's energy problem"): 64-bit reads of 8 KB, 32 KB and 1 MB SRAMs 10, 20 and
+  // 100 pJ, fitted by the square root within 13 %; DRAM 1.3 nJ per 64 bits (the low end of his
+  // 1.3-2.6 nJ) = 20.3125 pJ per bit.
+  double sram_pj_64b_8kib = 10;
+  double sram_capacity_exponent = 0.5;
+  double dram_pj_per_bit = 20.3125;
   // resolved (resolve_config, not a TOML key): um2 of one NAND2-eq, the NAND2X1 cell area the
   // area table read from its liberty (memories and NAND2-eq unit estimates are charged with it)
   double nand2_um2 = 0;

@@ -66,6 +66,9 @@ struct SimStats {
   uint64_t bank_conflicts = 0;  // part of stall_memory
   CacheStats l1, l2;
   uint64_t dram_read_bytes = 0, dram_write_bytes = 0;
+  // register file accesses of the issued instructions (sources read, destinations written), by
+  // file (Stream::fp: the format's FP file, else the 32-bit integer file)
+  uint64_t rf_reads_fp = 0, rf_reads_int = 0, rf_writes_fp = 0, rf_writes_int = 0;
   uint32_t max_live_registers = 0;  // over all streams
   uint32_t max_live_fp_registers = 0, max_live_int_registers = 0;  // per register file (Stream::fp)
   uint64_t max_stream_length = 0;

@@ -35,6 +35,26 @@ double memory_cell_um2(const Config& c, int rw, int r, int w);
 // Bits of a cache's data and tag arrays (a valid bit and address_bits - index - offset per line).
 double cache_bits(const Config& c, const CacheCfg& k);
 
+// Memory access energy (docs/TRAX.md "Memory access energy"; an estimate with Horowitz's 45 nm
+// constants, [energy] of the configuration): per structure the accesses the run made and the pJ
+// of one. Register files: every source read and destination written (per file, at the file's
+// width; the file is one thread's); local store: stack loads and stores (8 B); L1: scene loads
+// (one value: the format's width, or the word with scene_storage = "word"); L2: L1 misses (a line
+// each); DRAM: bytes read and written x dram_pj_per_bit x 8. Functional units are not included.
+struct EnergyItem {
+  std::string name;
+  uint64_t accesses = 0;
+  double pj_each = 0;
+  double total() const { return double(accesses) * pj_each; }
+};
+struct Energy {
+  std::vector<EnergyItem> items;
+  double total_pj = 0;
+};
+// pJ of one access of `bits` bits to an SRAM array of `bytes` bytes (the [energy] law).
+double sram_access_pj(const Config& c, double bytes, double bits);
+Energy energy_estimate(const Config& c, const SimStats& st);
+
 struct TraxResult {
   Config cfg;  // resolved (resolve_config): "rtl" latencies and "synth" areas filled in
   std::vector<AreaSource> area_sources;
@@ -49,6 +69,7 @@ struct TraxResult {
   int bvh_depth = 0;
   uint64_t value_bits = 0, node_bytes = 0, tri_bytes = 0;  // scene data in memory (chip.scene_storage)
   Area area;
+  Energy energy;    // memory access energy of the run (estimate)
   ChipClock clock;  // cfg.clock_mhz and where it came from (STA of the slowest used unit, or configured)
   uint64_t rays() const { return primary_rays + shadow_rays + bounce_rays; }
   double seconds() const { return double(sim.cycles) / (cfg.clock_mhz * 1e6); }
