@@ -72,9 +72,19 @@ def plot_formats(rows, fig):
         ax4.set_xticks(list(xs))
         ax4.set_xticklabels(fmts, fontsize=8)
         ax4.set_ylabel("DRAM bytes per ray")
-        ax4.set_title("DRAM traffic per ray", fontsize=10)
-        ax4.legend(fontsize=8)
+        ax4.set_title("DRAM traffic per ray" + (" and memory access energy" if "memory_pj_per_ray" in rows[0] else ""),
+                      fontsize=10)
+        ax4.legend(fontsize=8, loc="upper left")
         ax4.grid(axis="y", alpha=0.3)
+        if "memory_pj_per_ray" in rows[0]:  # issue 16: an estimate (Horowitz's 45 nm constants)
+            ax5 = ax4.twinx()
+            ax5.plot(list(xs), [num(r["memory_pj_per_ray_word"]) / 1e3 for r in rows], "s--", color="tab:gray",
+                     label="energy, words")
+            ax5.plot(list(xs), [num(r["memory_pj_per_ray"]) / 1e3 for r in rows], "o-", color="tab:purple",
+                     label="energy, format")
+            ax5.set_ylabel("memory access energy per ray (nJ, estimate)")
+            ax5.set_ylim(bottom=0)
+            ax5.legend(fontsize=8, loc="lower right")
 
 
 def plot_rays(rows, fig):

@@ -75,16 +75,52 @@ Check compare(const Format& f, BOp op, const std::vector<uint64_t>& a, const std
   return k;
 }
 
+// Every vector path the CPU has (set_batch_isa: scalar, AVX2, AVX-512) against the scalar functions.
 void check_all(const Format& f, BOp op, const std::vector<uint64_t>& a, const std::vector<uint64_t>& b,
                const std::vector<uint64_t>& c) {
-  std::vector<uint64_t> y, y2;
-  std::vector<uint8_t> fl;
-  const uint8_t all = batch(f, op, a, b, c, y, &fl);
-  const Check k = compare(f, op, a, b, c, y, fl, all);
-  ASSERT_EQ(k.differ, 0u) << k.first;
-  ASSERT_TRUE(k.or_ok) << f.name();
-  ASSERT_EQ(batch(f, op, a, b, c, y2, nullptr), all);  // flags = null: same bits, same OR
-  ASSERT_EQ(y2, y);
+  for (BatchIsa isa : {BatchIsa::Scalar, BatchIsa::Avx2, BatchIsa::Avx512}) {
+    if (!set_batch_isa(isa)) continue;
+    SCOPED_TRACE("isa " + std::to_string(static_cast<int>(isa)));
+    std::vector<uint64_t> y, y2;
+    std::vector<uint8_t> fl;
+    const uint8_t all = batch(f, op, a, b, c, y, &fl);
+    const Check k = compare(f, op, a, b, c, y, fl, all);
+    set_batch_isa(BatchIsa::Auto);
+    ASSERT_EQ(k.differ, 0u) << k.first;
+    ASSERT_TRUE(k.or_ok) << f.name();
+    set_batch_isa(isa);
+    ASSERT_EQ(batch(f, op, a, b, c, y2, nullptr), all);  // flags = null: same bits, same OR
+    set_batch_isa(BatchIsa::Auto);
+    ASSERT_EQ(y2, y);
+  }
+}
+
+// The vector paths take the common case: normal operands and results (the operands of `rayunits
+// bench fp`, exponents -8..8) at e8m23 and e7m16, lengths not a multiple of the lane count (the
+// scalar tail), every path the CPU has, against the scalar functions. On a CPU with AVX2 both
+// paths are there to test (the AVX-512 one only with AVX-512F and DQ).
+TEST(NumBatch, VectorPathsEqualScalarOnNormalOperands) {
+  EXPECT_TRUE(set_batch_isa(BatchIsa::Scalar));
+  EXPECT_EQ(batch_isa(), BatchIsa::Scalar);
+  set_batch_isa(BatchIsa::Auto);
+  if (__builtin_cpu_supports("avx2")) {
+    EXPECT_TRUE(set_batch_isa(BatchIsa::Avx2));
+    EXPECT_EQ(batch_isa(), BatchIsa::Avx2);
+    set_batch_isa(BatchIsa::Auto);
+  }
+  util::Xoshiro256ss rng(7);
+  for (const char* name : {"e8m23", "e7m16", "e5m10", "e8m23-ftz"}) {
+    const Format f = Format::parse(name);
+    std::vector<uint64_t> a, b, c;
+    const int span = std::min(8, f.emax() / 2 - 1);
+    for (int i = 0; i < 40003; ++i)
+      for (auto* v : {&a, &b, &c}) {
+        const int e = static_cast<int>(rng.next() % (2 * span + 1)) - span;
+        v->push_back((rng.next() & f.sign_bit()) | (static_cast<uint64_t>(e + f.bias()) << f.frac_bits) |
+                     (rng.next() & f.frac_mask()));
+      }
+    for (BOp op : kOps) check_all(f, op, a, b, c);
+  }
 }
 
 TEST(NumBatch, SmallFormatsExhaustiveEqualScalar) {

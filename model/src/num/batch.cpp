@@ -3,7 +3,14 @@
 // general path as fallback -- the same code as the scalar functions, so the same bits and flags.
 #include "rayunits/num/batch.hpp"
 
+#include <atomic>
+#include <cstring>
 #include <type_traits>
+
+#if defined(__GNUC__) && defined(__x86_64__) && !defined(RU_NUM_NO_SIMD)
+#define RU_NUM_SIMD 1
+#include <immintrin.h>
+#endif
 
 namespace ru::num {
 namespace {
@@ -29,11 +36,12 @@ inline uint8_t put(uint64_t* y, uint8_t* flags, size_t i, const Result& r) {
 // Two operands: Op<C>::run on (a, b ^ bxor), else general(f, a, b).
 template <template <class> class Op>
 uint8_t binary(const Format& f, const uint64_t* a, const uint64_t* b, uint64_t* y, uint8_t* flags, size_t n,
-               uint64_t bxor, Result (*general)(const Format&, uint64_t, uint64_t)) {
+               uint64_t bxor, Result (*general)(const Format&, uint64_t, uint64_t), size_t start = 0,
+               uint8_t start_flags = 0) {
   return with_consts(f, [&](const auto& c) {
     using C = std::decay_t<decltype(c)>;
-    uint8_t all = 0;
-    for (size_t i = 0; i < n; ++i) {
+    uint8_t all = start_flags;
+    for (size_t i = start; i < n; ++i) {
       const uint64_t x = a[i], z = b[i];
       Result r;
       if (!Op<C>::run(c, r, x, z ^ bxor)) r = general(f, x, z);
@@ -43,25 +51,185 @@ uint8_t binary(const Format& f, const uint64_t* a, const uint64_t* b, uint64_t* 
   });
 }
 
+#if RU_NUM_SIMD
+// The 4-lane AVX2 path (issue 16 §3: the model at or above a double-backed emulator's rate), for
+// round-to-nearest-even and M <= 24 (2(M+1)+2 <= 53): each lane decodes its bit patterns into
+// doubles (integer shifts), does one double operation and rounds the double into the format with
+// integer operations -- the exact tail of add/sub from TwoSum, products of <= 25-bit
+// significands exact -- giving bits and the inexact flag. A lane leaves the path ("bad") when an
+// operand is zero, subnormal, INF or NaN (sqrt: negative), when the result before or after
+// rounding is outside the format's normal range (zero, underflow, overflow), or for div/sqrt when
+// the double's dropped bits are exactly 0 or half (the unknown tail could matter: as
+// detail/double_paths.hpp); such lanes are recomputed by the scalar path from their saved
+// operands. On the lanes it keeps it equals the scalar model bit for bit and flag for flag
+// (tests/num/test_batch.cpp runs every batch call against the scalar functions). Used only when
+// the CPU has AVX2 (checked at run time) unless RU_NUM_NO_SIMD is defined.
+enum class VOp { Add, Mul, Div, Sqrt };
+static_assert(kInexact == 1, "the SIMD path packs the inexact flag as bit 0 of each lane byte");
+BatchIsa cpu_best() {
+  static const BatchIsa best = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") ? BatchIsa::Avx512
+                               : __builtin_cpu_supports("avx2") ? BatchIsa::Avx2
+                                                                : BatchIsa::Scalar;
+  return best;
+}
+std::atomic<BatchIsa> g_isa{BatchIsa::Auto};
+BatchIsa simd_isa(const Format& f) {
+  if (f.round != Round::RNE || f.frac_bits > 24) return BatchIsa::Scalar;
+  return batch_isa();
+}
+
+// One loop for L lanes (4: AVX2, 8: AVX-512), written once as a macro because the two differ in
+// their target attribute and two intrinsics (lane mask, square root). The loop runs over m (a
+// multiple of L) elements; bad lanes are recomputed by scalar(a, b) from the operands as loaded
+// (y may alias a or b).
+#define RU_SIMD_LOOP(NAME, TARGET, L, MOVEMASK, SQRT)                                                          \
+  template <VOp op, class Scalar>                                                                             \
+  __attribute__((target(TARGET))) void NAME(const Format& f, const uint64_t* pa, const uint64_t* pb,          \
+                                            uint64_t bxor, uint64_t* py, uint8_t* pfl, size_t m, uint8_t* all, \
+                                            Scalar& scalar) {                                                 \
+    using uv = uint64_t __attribute__((vector_size(8 * L)));                                                  \
+    using iv = int64_t __attribute__((vector_size(8 * L)));                                                   \
+    using fv = double __attribute__((vector_size(8 * L)));                                                    \
+    const int M = f.frac_bits, EM = f.exp_bits + f.frac_bits, d = 52 - M;                                     \
+    const uint64_t emaxf = f.exp_field_max();                                                                 \
+    const int64_t off = 1023 - f.bias(); /* double exponent field - format exponent field */                 \
+    const uv low = uv{} + ((1ull << d) - 1), half = uv{} + (1ull << (d - 1)), one_ulp = half + half;          \
+    const uv vfmask = uv{} + f.frac_mask(), vemaxf = uv{} + emaxf, voff = uv{} + static_cast<uint64_t>(off);  \
+    const iv vlo = iv{} + (off + 1), vhi = iv{} + (off + static_cast<int64_t>(emaxf) - 1), hv = (iv)half;      \
+    uint8_t flags_or = 0;                                                                                     \
+    for (size_t i = 0; i < m; i += L) {                                                                       \
+      uv a, b = {};                                                                                           \
+      std::memcpy(&a, pa + i, 8 * L);                                                                         \
+      if (op != VOp::Sqrt) std::memcpy(&b, pb + i, 8 * L);                                                    \
+      const uv b2 = b ^ bxor;                                                                                 \
+      iv bad = {};                                                                                            \
+      /* the format's normal value as a double (zero, subnormal, INF, NaN: bad) */                          \
+      const uv ea = (a >> M) & vemaxf, eb = (b2 >> M) & vemaxf;                                               \
+      bad |= (iv)(ea == 0) | (iv)(ea == vemaxf);                                                              \
+      const fv da = (fv)(((a >> EM) << 63) | ((ea + voff) << 52) | ((a & vfmask) << d));                      \
+      const fv db = (fv)(((b2 >> EM) << 63) | ((eb + voff) << 52) | ((b2 & vfmask) << d));                    \
+      if (op != VOp::Sqrt) bad |= (iv)(eb == 0) | (iv)(eb == vemaxf);                                         \
+      fv r, err = {};                                                                                         \
+      if constexpr (op == VOp::Add) {                                                                         \
+        r = da + db;                                                                                          \
+        const fv bb = r - da;                                                                                 \
+        err = (da - (r - bb)) + (db - bb); /* TwoSum: r + err is the exact sum */                            \
+      } else if constexpr (op == VOp::Mul) {                                                                  \
+        r = da * db; /* exact: two <= 25-bit significands */                                                 \
+      } else if constexpr (op == VOp::Div) {                                                                  \
+        r = da / db;                                                                                          \
+      } else {                                                                                                \
+        bad |= (iv)((a >> EM) & 1) != 0; /* negative (zero is already bad) */                                \
+        r = SQRT(da);                                                                                         \
+      }                                                                                                       \
+      const uv u = (uv)r, ue = (uv)err;                                                                       \
+      const iv rem = (iv)(u & low);                                                                           \
+      const iv errnz = (iv)((ue << 1) != 0);                                                                  \
+      const iv same = (iv)(((ue ^ u) >> 63) == 0) & errnz; /* the tail points away from zero */              \
+      const iv lsb = (iv)(((u >> d) & 1) != 0);                                                               \
+      const iv up = (rem > hv) | ((rem == hv) & (same | (~errnz & lsb)));                                     \
+      if constexpr (op == VOp::Div || op == VOp::Sqrt) bad |= (rem == 0) | (rem == hv);                       \
+      const iv inexact = (rem != 0) | errnz;                                                                  \
+      const uv ur = (u & ~low) + ((uv)up & one_ulp);                                                          \
+      const iv ev = (iv)((u >> 52) & 0x7ff), er = (iv)((ur >> 52) & 0x7ff);                                   \
+      bad |= (ev < vlo) | (ev > vhi) | (er < vlo) | (er > vhi);                                               \
+      const uv y = ((u >> 63) << EM) | ((uv)(er - (iv)voff) << M) | ((ur >> d) & vfmask);                     \
+      const unsigned mask = MOVEMASK(bad);                                                                    \
+      uint64_t sa[L], sb[L];                                                                                  \
+      if (mask) { /* keep the operands of the lanes to redo */                                               \
+        std::memcpy(sa, &a, 8 * L);                                                                           \
+        std::memcpy(sb, &b, 8 * L);                                                                           \
+      }                                                                                                       \
+      std::memcpy(py + i, &y, 8 * L);                                                                         \
+      const unsigned inx = MOVEMASK(inexact);                                                                 \
+      if (pfl)                                                                                                \
+        for (int k = 0; k < L; ++k) pfl[i + k] = static_cast<uint8_t>((inx >> k) & 1u); /* kInexact */       \
+      if (inx & ~mask) flags_or |= kInexact;                                                                  \
+      for (unsigned k = 0, bits = mask; bits; ++k, bits >>= 1)                                                \
+        if (bits & 1) flags_or |= put(py, pfl, i + k, scalar(sa[k], sb[k]));                                  \
+    }                                                                                                         \
+    *all |= flags_or;                                                                                         \
+  }
+
+#define RU_MASK4(x) static_cast<unsigned>(_mm256_movemask_pd((__m256d)(x)))
+#define RU_SQRT4(x) (fv) _mm256_sqrt_pd((__m256d)(x))
+#define RU_MASK8(x) static_cast<unsigned>(_mm512_movepi64_mask((__m512i)(x)))
+#define RU_SQRT8(x) (fv) _mm512_maskz_sqrt_pd(static_cast<__mmask8>(0xff), (__m512d)(x))
+RU_SIMD_LOOP(simd_loop4, "avx2", 4, RU_MASK4, RU_SQRT4)
+RU_SIMD_LOOP(simd_loop8, "avx512f,avx512dq", 8, RU_MASK8, RU_SQRT8)
+#undef RU_SIMD_LOOP
+#undef RU_MASK4
+#undef RU_SQRT4
+#undef RU_MASK8
+#undef RU_SQRT8
+
+template <VOp op, class Scalar>
+size_t simd_blocks(const Format& f, const uint64_t* a, const uint64_t* b, uint64_t bxor, uint64_t* y, uint8_t* flags,
+                   size_t n, uint8_t* all, Scalar&& scalar) {
+  switch (simd_isa(f)) {
+    case BatchIsa::Avx512: simd_loop8<op>(f, a, b, bxor, y, flags, n & ~size_t(7), all, scalar); return n & ~size_t(7);
+    case BatchIsa::Avx2: simd_loop4<op>(f, a, b, bxor, y, flags, n & ~size_t(3), all, scalar); return n & ~size_t(3);
+    default: return 0;
+  }
+}
+#endif
+
 }  // namespace
 
+bool set_batch_isa(BatchIsa isa) {
+#if RU_NUM_SIMD
+  const BatchIsa best = cpu_best();
+  if (isa == BatchIsa::Avx512 && best != BatchIsa::Avx512) return false;
+  if (isa == BatchIsa::Avx2 && best == BatchIsa::Scalar) return false;
+  g_isa = isa;
+  return true;
+#else
+  return isa == BatchIsa::Auto || isa == BatchIsa::Scalar;
+#endif
+}
+BatchIsa batch_isa() {
+#if RU_NUM_SIMD
+  const BatchIsa i = g_isa;
+  return i == BatchIsa::Auto ? cpu_best() : i;
+#else
+  return BatchIsa::Scalar;
+#endif
+}
+
+#if RU_NUM_SIMD
+#define RU_SIMD_PREFIX(OP, B, XOR, CALL)                                                                        \
+  uint8_t all = 0;                                                                                          \
+  const size_t done = simd_blocks<OP>(f, a, B, XOR, y, flags, n, &all, [&](uint64_t x, uint64_t z) {         \
+    (void)z;                                                                                                \
+    return CALL;                                                                                            \
+  });
+#else
+#define RU_SIMD_PREFIX(OP, B, XOR, CALL) \
+  uint8_t all = 0;                       \
+  const size_t done = 0;
+#endif
+
 uint8_t add_n(const Format& f, const uint64_t* a, const uint64_t* b, uint64_t* y, uint8_t* flags, size_t n) {
-  return binary<detail::AddFastOp>(f, a, b, y, flags, n, 0, detail::add_general);
+  RU_SIMD_PREFIX(VOp::Add, b, 0, add(f, x, z))
+  return binary<detail::AddFastOp>(f, a, b, y, flags, n, 0, detail::add_general, done, all);
 }
 uint8_t sub_n(const Format& f, const uint64_t* a, const uint64_t* b, uint64_t* y, uint8_t* flags, size_t n) {
-  return binary<detail::AddFastOp>(f, a, b, y, flags, n, f.sign_bit(), detail::sub_general);
+  RU_SIMD_PREFIX(VOp::Add, b, f.sign_bit(), sub(f, x, z))
+  return binary<detail::AddFastOp>(f, a, b, y, flags, n, f.sign_bit(), detail::sub_general, done, all);
 }
 uint8_t mul_n(const Format& f, const uint64_t* a, const uint64_t* b, uint64_t* y, uint8_t* flags, size_t n) {
-  return binary<detail::MulFastOp>(f, a, b, y, flags, n, 0, detail::mul_general);
+  RU_SIMD_PREFIX(VOp::Mul, b, 0, mul(f, x, z))
+  return binary<detail::MulFastOp>(f, a, b, y, flags, n, 0, detail::mul_general, done, all);
 }
 uint8_t div_n(const Format& f, const uint64_t* a, const uint64_t* b, uint64_t* y, uint8_t* flags, size_t n) {
-  return binary<detail::DivDoubleOp>(f, a, b, y, flags, n, 0, detail::div_general);
+  RU_SIMD_PREFIX(VOp::Div, b, 0, div(f, x, z))
+  return binary<detail::DivDoubleOp>(f, a, b, y, flags, n, 0, detail::div_general, done, all);
 }
 uint8_t sqrt_n(const Format& f, const uint64_t* a, uint64_t* y, uint8_t* flags, size_t n) {
+  RU_SIMD_PREFIX(VOp::Sqrt, static_cast<const uint64_t*>(nullptr), 0, sqrt(f, x))
   return with_consts(f, [&](const auto& c) {
     using C = std::decay_t<decltype(c)>;
-    uint8_t all = 0;
-    for (size_t i = 0; i < n; ++i) {
+    for (size_t i = done; i < n; ++i) {
       const uint64_t x = a[i];
       Result r;
       if (!detail::SqrtDoubleOp<C>::run(c, r, x)) r = detail::sqrt_general(f, x);

@@ -22,4 +22,12 @@ uint8_t sqrt_n(const Format& f, const uint64_t* a, uint64_t* y, uint8_t* flags, 
 uint8_t fma_n(const Format& f, const uint64_t* a, const uint64_t* b, const uint64_t* c, uint64_t* y, uint8_t* flags,
               size_t n);
 
+// The vector paths of add/sub/mul/div/sqrt (round to nearest even, M <= 24; batch.cpp): 8 lanes
+// with AVX-512, 4 with AVX2, chosen at run time from the CPU. set_batch_isa restricts them (the
+// tests run every path against the scalar functions; `bench fp` can time each): Auto = the best
+// the CPU has, Scalar = none. Returns false, changing nothing, when the CPU lacks the ISA.
+enum class BatchIsa { Auto, Scalar, Avx2, Avx512 };
+bool set_batch_isa(BatchIsa isa);
+BatchIsa batch_isa();  // the path in use (never Auto)
+
 }  // namespace ru::num
