@@ -52,19 +52,25 @@ uint8_t binary(const Format& f, const uint64_t* a, const uint64_t* b, uint64_t* 
 }
 
 #if RU_NUM_SIMD
-// The 4-lane AVX2 path (issue 16 §3: the model at or above a double-backed emulator's rate), for
-// round-to-nearest-even and M <= 24 (2(M+1)+2 <= 53): each lane decodes its bit patterns into
+// The vector paths (issue 16 §3: the model at or above a double-backed emulator's rate): 8 lanes
+// with AVX-512 (F, DQ), 4 with AVX2, picked at run time from the CPU (set_batch_isa), for
+// round-to-nearest-even and M <= 24 (2(M+1)+2 <= 53). Each lane decodes its bit patterns into
 // doubles (integer shifts), does one double operation and rounds the double into the format with
-// integer operations -- the exact tail of add/sub from TwoSum, products of <= 25-bit
-// significands exact -- giving bits and the inexact flag. A lane leaves the path ("bad") when an
-// operand is zero, subnormal, INF or NaN (sqrt: negative), when the result before or after
-// rounding is outside the format's normal range (zero, underflow, overflow), or for div/sqrt when
-// the double's dropped bits are exactly 0 or half (the unknown tail could matter: as
-// detail/double_paths.hpp); such lanes are recomputed by the scalar path from their saved
-// operands. On the lanes it keeps it equals the scalar model bit for bit and flag for flag
-// (tests/num/test_batch.cpp runs every batch call against the scalar functions). Used only when
-// the CPU has AVX2 (checked at run time) unless RU_NUM_NO_SIMD is defined.
-enum class VOp { Add, Mul, Div, Sqrt };
+// integer operations, giving bits and the inexact flag:
+//   add/sub  exact in double when the exponents differ by <= 51 - M; farther apart the smaller
+//            operand lies below a quarter ulp of the result (result: the larger, inexact);
+//   mul      exact (two <= 25-bit significands);
+//   div/sqrt one rounding in double; lanes whose dropped bits are exactly 0 or half leave the
+//            path (the unknown tail could matter; as detail/double_paths.hpp);
+//   fma      the product exact (E <= 9: no overflow or underflow in double), TwoSum for the sum:
+//            the tail's sign decides ties and the inexact flag.
+// A lane also leaves the path ("bad") when an operand is zero, subnormal, INF or NaN (sqrt:
+// negative) or when the result before or after rounding is outside the format's normal range
+// (zero, underflow, overflow; tininess is detected after rounding, so a result that rounds up to
+// 2^emin is normal); bad lanes are recomputed by the scalar functions from their saved operands.
+// The kept lanes equal the scalar model bit for bit and flag for flag: tests/num/test_batch.cpp
+// runs every path the CPU has against the scalar functions (RU_NUM_NO_SIMD switches them off).
+enum class VOp { Add, Mul, Div, Sqrt, Fma };
 static_assert(kInexact == 1, "the SIMD path packs the inexact flag as bit 0 of each lane byte");
 BatchIsa cpu_best() {
   static const BatchIsa best = __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512dq") ? BatchIsa::Avx512
@@ -85,8 +91,8 @@ BatchIsa simd_isa(const Format& f) {
 #define RU_SIMD_LOOP(NAME, TARGET, L, MOVEMASK, SQRT)                                                          \
   template <VOp op, class Scalar>                                                                             \
   __attribute__((target(TARGET))) void NAME(const Format& f, const uint64_t* pa, const uint64_t* pb,          \
-                                            uint64_t bxor, uint64_t* py, uint8_t* pfl, size_t m, uint8_t* all, \
-                                            Scalar& scalar) {                                                 \
+                                            const uint64_t* pc, uint64_t bxor, uint64_t* py, uint8_t* pfl,    \
+                                            size_t m, uint8_t* all, Scalar& scalar) {                         \
     using uv = uint64_t __attribute__((vector_size(8 * L)));                                                  \
     using iv = int64_t __attribute__((vector_size(8 * L)));                                                   \
     using fv = double __attribute__((vector_size(8 * L)));                                                    \
@@ -98,9 +104,10 @@ BatchIsa simd_isa(const Format& f) {
     const iv vlo = iv{} + (off + 1), vhi = iv{} + (off + static_cast<int64_t>(emaxf) - 1), hv = (iv)half;      \
     uint8_t flags_or = 0;                                                                                     \
     for (size_t i = 0; i < m; i += L) {                                                                       \
-      uv a, b = {};                                                                                           \
+      uv a, b = {}, c = {};                                                                                   \
       std::memcpy(&a, pa + i, 8 * L);                                                                         \
       if (op != VOp::Sqrt) std::memcpy(&b, pb + i, 8 * L);                                                    \
+      if (op == VOp::Fma) std::memcpy(&c, pc + i, 8 * L);                                                     \
       const uv b2 = b ^ bxor;                                                                                 \
       iv bad = {};                                                                                            \
       /* the format's normal value as a double (zero, subnormal, INF, NaN: bad) */                          \
@@ -110,35 +117,47 @@ BatchIsa simd_isa(const Format& f) {
       const fv db = (fv)(((b2 >> EM) << 63) | ((eb + voff) << 52) | ((b2 & vfmask) << d));                    \
       if (op != VOp::Sqrt) bad |= (iv)(eb == 0) | (iv)(eb == vemaxf);                                         \
       fv r, err = {};                                                                                         \
+      iv far = {};                                                                                            \
       if constexpr (op == VOp::Add) {                                                                         \
+        /* exact in double when the exponents differ by <= 51 - M (M + 1 + 51 - M + 1 carry = 53 bits); */  \
+        /* farther apart the smaller is below a quarter ulp of the result: result = the larger, inexact */   \
         r = da + db;                                                                                          \
-        const fv bb = r - da;                                                                                 \
-        err = (da - (r - bb)) + (db - bb); /* TwoSum: r + err is the exact sum */                            \
+        const iv de = (iv)ea - (iv)eb;                                                                        \
+        far = (de > 51 - M) | (de < M - 51);                                                                  \
       } else if constexpr (op == VOp::Mul) {                                                                  \
         r = da * db; /* exact: two <= 25-bit significands */                                                 \
       } else if constexpr (op == VOp::Div) {                                                                  \
         r = da / db;                                                                                          \
-      } else {                                                                                                \
+      } else if constexpr (op == VOp::Sqrt) {                                                                 \
         bad |= (iv)((a >> EM) & 1) != 0; /* negative (zero is already bad) */                                \
         r = SQRT(da);                                                                                         \
+      } else { /* fma: the product is exact (E <= 9: no overflow or underflow in double), TwoSum */          \
+        const uv ec = (c >> M) & vemaxf;                                                                      \
+        bad |= (iv)(ec == 0) | (iv)(ec == vemaxf);                                                            \
+        const fv dc = (fv)(((c >> EM) << 63) | ((ec + voff) << 52) | ((c & vfmask) << d));                    \
+        const fv p = da * db;                                                                                 \
+        r = p + dc;                                                                                           \
+        const fv bb = r - p;                                                                                  \
+        err = (p - (r - bb)) + (dc - bb); /* r + err is the exact a b + c */                                 \
       }                                                                                                       \
       const uv u = (uv)r, ue = (uv)err;                                                                       \
       const iv rem = (iv)(u & low);                                                                           \
-      const iv errnz = (iv)((ue << 1) != 0);                                                                  \
-      const iv same = (iv)(((ue ^ u) >> 63) == 0) & errnz; /* the tail points away from zero */              \
       const iv lsb = (iv)(((u >> d) & 1) != 0);                                                               \
+      const iv errnz = (iv)((ue << 1) != 0); /* fma only: the tail below the double */                       \
+      const iv same = (iv)(((ue ^ u) >> 63) == 0) & errnz; /* ... pointing away from zero */                 \
       const iv up = (rem > hv) | ((rem == hv) & (same | (~errnz & lsb)));                                     \
       if constexpr (op == VOp::Div || op == VOp::Sqrt) bad |= (rem == 0) | (rem == hv);                       \
-      const iv inexact = (rem != 0) | errnz;                                                                  \
+      const iv inexact = (rem != 0) | far | errnz;                                                            \
       const uv ur = (u & ~low) + ((uv)up & one_ulp);                                                          \
       const iv ev = (iv)((u >> 52) & 0x7ff), er = (iv)((ur >> 52) & 0x7ff);                                   \
       bad |= (ev < vlo) | (ev > vhi) | (er < vlo) | (er > vhi);                                               \
       const uv y = ((u >> 63) << EM) | ((uv)(er - (iv)voff) << M) | ((ur >> d) & vfmask);                     \
       const unsigned mask = MOVEMASK(bad);                                                                    \
-      uint64_t sa[L], sb[L];                                                                                  \
+      uint64_t sa[L], sb[L], sc[L];                                                                           \
       if (mask) { /* keep the operands of the lanes to redo */                                               \
         std::memcpy(sa, &a, 8 * L);                                                                           \
         std::memcpy(sb, &b, 8 * L);                                                                           \
+        std::memcpy(sc, &c, 8 * L);                                                                           \
       }                                                                                                       \
       std::memcpy(py + i, &y, 8 * L);                                                                         \
       const unsigned inx = MOVEMASK(inexact);                                                                 \
@@ -146,7 +165,7 @@ BatchIsa simd_isa(const Format& f) {
         for (int k = 0; k < L; ++k) pfl[i + k] = static_cast<uint8_t>((inx >> k) & 1u); /* kInexact */       \
       if (inx & ~mask) flags_or |= kInexact;                                                                  \
       for (unsigned k = 0, bits = mask; bits; ++k, bits >>= 1)                                                \
-        if (bits & 1) flags_or |= put(py, pfl, i + k, scalar(sa[k], sb[k]));                                  \
+        if (bits & 1) flags_or |= put(py, pfl, i + k, scalar(sa[k], sb[k], sc[k]));                           \
     }                                                                                                         \
     *all |= flags_or;                                                                                         \
   }
@@ -164,11 +183,12 @@ RU_SIMD_LOOP(simd_loop8, "avx512f,avx512dq", 8, RU_MASK8, RU_SQRT8)
 #undef RU_SQRT8
 
 template <VOp op, class Scalar>
-size_t simd_blocks(const Format& f, const uint64_t* a, const uint64_t* b, uint64_t bxor, uint64_t* y, uint8_t* flags,
-                   size_t n, uint8_t* all, Scalar&& scalar) {
+size_t simd_blocks(const Format& f, const uint64_t* a, const uint64_t* b, const uint64_t* c, uint64_t bxor, uint64_t* y,
+                   uint8_t* flags, size_t n, uint8_t* all, Scalar&& scalar) {
+  if (op == VOp::Fma && f.exp_bits > 9) return 0;  // products must stay normal doubles
   switch (simd_isa(f)) {
-    case BatchIsa::Avx512: simd_loop8<op>(f, a, b, bxor, y, flags, n & ~size_t(7), all, scalar); return n & ~size_t(7);
-    case BatchIsa::Avx2: simd_loop4<op>(f, a, b, bxor, y, flags, n & ~size_t(3), all, scalar); return n & ~size_t(3);
+    case BatchIsa::Avx512: simd_loop8<op>(f, a, b, c, bxor, y, flags, n & ~size_t(7), all, scalar); return n & ~size_t(7);
+    case BatchIsa::Avx2: simd_loop4<op>(f, a, b, c, bxor, y, flags, n & ~size_t(3), all, scalar); return n & ~size_t(3);
     default: return 0;
   }
 }
@@ -197,36 +217,37 @@ BatchIsa batch_isa() {
 }
 
 #if RU_NUM_SIMD
-#define RU_SIMD_PREFIX(OP, B, XOR, CALL)                                                                        \
-  uint8_t all = 0;                                                                                          \
-  const size_t done = simd_blocks<OP>(f, a, B, XOR, y, flags, n, &all, [&](uint64_t x, uint64_t z) {         \
-    (void)z;                                                                                                \
-    return CALL;                                                                                            \
+#define RU_SIMD_PREFIX(OP, B, C, XOR, CALL)                                                                      \
+  uint8_t all = 0;                                                                                            \
+  const size_t done = simd_blocks<OP>(f, a, B, C, XOR, y, flags, n, &all, [&](uint64_t x, uint64_t z, uint64_t w) { \
+    (void)z;                                                                                                  \
+    (void)w;                                                                                                  \
+    return CALL;                                                                                              \
   });
 #else
-#define RU_SIMD_PREFIX(OP, B, XOR, CALL) \
+#define RU_SIMD_PREFIX(OP, B, C, XOR, CALL) \
   uint8_t all = 0;                       \
   const size_t done = 0;
 #endif
 
 uint8_t add_n(const Format& f, const uint64_t* a, const uint64_t* b, uint64_t* y, uint8_t* flags, size_t n) {
-  RU_SIMD_PREFIX(VOp::Add, b, 0, add(f, x, z))
+  RU_SIMD_PREFIX(VOp::Add, b, nullptr, 0, add(f, x, z))
   return binary<detail::AddFastOp>(f, a, b, y, flags, n, 0, detail::add_general, done, all);
 }
 uint8_t sub_n(const Format& f, const uint64_t* a, const uint64_t* b, uint64_t* y, uint8_t* flags, size_t n) {
-  RU_SIMD_PREFIX(VOp::Add, b, f.sign_bit(), sub(f, x, z))
+  RU_SIMD_PREFIX(VOp::Add, b, nullptr, f.sign_bit(), sub(f, x, z))
   return binary<detail::AddFastOp>(f, a, b, y, flags, n, f.sign_bit(), detail::sub_general, done, all);
 }
 uint8_t mul_n(const Format& f, const uint64_t* a, const uint64_t* b, uint64_t* y, uint8_t* flags, size_t n) {
-  RU_SIMD_PREFIX(VOp::Mul, b, 0, mul(f, x, z))
+  RU_SIMD_PREFIX(VOp::Mul, b, nullptr, 0, mul(f, x, z))
   return binary<detail::MulFastOp>(f, a, b, y, flags, n, 0, detail::mul_general, done, all);
 }
 uint8_t div_n(const Format& f, const uint64_t* a, const uint64_t* b, uint64_t* y, uint8_t* flags, size_t n) {
-  RU_SIMD_PREFIX(VOp::Div, b, 0, div(f, x, z))
+  RU_SIMD_PREFIX(VOp::Div, b, nullptr, 0, div(f, x, z))
   return binary<detail::DivDoubleOp>(f, a, b, y, flags, n, 0, detail::div_general, done, all);
 }
 uint8_t sqrt_n(const Format& f, const uint64_t* a, uint64_t* y, uint8_t* flags, size_t n) {
-  RU_SIMD_PREFIX(VOp::Sqrt, static_cast<const uint64_t*>(nullptr), 0, sqrt(f, x))
+  RU_SIMD_PREFIX(VOp::Sqrt, static_cast<const uint64_t*>(nullptr), nullptr, 0, sqrt(f, x))
   return with_consts(f, [&](const auto& c) {
     using C = std::decay_t<decltype(c)>;
     for (size_t i = done; i < n; ++i) {
@@ -240,10 +261,10 @@ uint8_t sqrt_n(const Format& f, const uint64_t* a, uint64_t* y, uint8_t* flags, 
 }
 uint8_t fma_n(const Format& f, const uint64_t* a, const uint64_t* b, const uint64_t* c3, uint64_t* y, uint8_t* flags,
               size_t n) {
+  RU_SIMD_PREFIX(VOp::Fma, b, c3, 0, fma(f, x, z, w))
   return with_consts(f, [&](const auto& c) {
     using C = std::decay_t<decltype(c)>;
-    uint8_t all = 0;
-    for (size_t i = 0; i < n; ++i) {
+    for (size_t i = done; i < n; ++i) {
       const uint64_t x = a[i], z = b[i], w = c3[i];
       Result r;
       if (!detail::FmaDoubleOp<C>::run(c, r, x, z, w)) r = detail::fma_general(f, x, z, w);
