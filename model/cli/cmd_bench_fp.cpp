@@ -40,6 +40,14 @@ using ru::num::Op;
 
 volatile uint64_t g_sink;
 
+const char* isa_name(ru::num::BatchIsa i) {
+  switch (i) {
+    case ru::num::BatchIsa::Avx512: return "AVX-512, 8 lanes";
+    case ru::num::BatchIsa::Avx2: return "AVX2, 4 lanes";
+    default: return "none, scalar";
+  }
+}
+
 struct Operands {
   std::vector<uint64_t> a, b, c;  // bit patterns
   std::vector<double> da, db, dc;  // the same values as doubles
@@ -387,8 +395,21 @@ int run_bench_fp(int argc, char** argv) {
   app.add_option("--baseline", baseline,
                  "MPFR variant of the ratio line: convert (default; operands in and result out as values, like the "
                  "model) or resident (operands already mpfr_t)");
+  std::string isa_text = "auto";
+  app.add_option("--batch-isa", isa_text,
+                 "vector path of the batch column: auto (default: the best the CPU has), avx512, avx2 or scalar");
   if (!parse_args(app, argc, argv)) return 0;
   if (formats.empty()) formats = {"e7m16", "e8m23"};
+  {
+    using ru::num::BatchIsa;
+    const BatchIsa isa = isa_text == "auto"     ? BatchIsa::Auto
+                         : isa_text == "avx512" ? BatchIsa::Avx512
+                         : isa_text == "avx2"   ? BatchIsa::Avx2
+                         : isa_text == "scalar" ? BatchIsa::Scalar
+                                                : throw UsageError("unknown --batch-isa '" + isa_text +
+                                                                   "'; accepted: auto, avx512, avx2, scalar");
+    if (!ru::num::set_batch_isa(isa)) throw UsageError("--batch-isa " + isa_text + ": this CPU does not have it");
+  }
   if (baseline != "convert" && baseline != "resident")
     throw UsageError("unknown --baseline '" + baseline + "'; accepted: convert, resident");
   const bool resident = baseline == "resident";
@@ -411,7 +432,8 @@ int run_bench_fp(int argc, char** argv) {
       "bench fp: one thread, %zu random normal operand sets (exponents -8..8, fewer for E < 6; sqrt of |a|),\n"
       "rounding %s; each figure: million operations per CPU-second, median of %d runs (>= %.2f s each, the\n"
       "variants alternating, same operands). model = ru::num bit patterns in, bits + flags out; batch = the\n"
-      "same through the batch API (num/batch.hpp: arrays in, arrays out, one format dispatch). peer = a\n"
+      "same through the batch API (num/batch.hpp: arrays in, arrays out, one format dispatch; vector path:\n"
+      "%s). peer = a\n"
       "minimal double-backed emulator (FlexFloat/CPFloat style: doubles in, compute in double, round once\n"
       "to nearest at M+1 bits / the subnormal quantum, overflow to INF; no other modes, no flags; no fma).\n"
       "float = native float loops on the same values (vectorized by the compiler). MPFR = operands held as\n"
@@ -420,7 +442,7 @@ int run_bench_fp(int argc, char** argv) {
       "out, like the model). m/peer = model / peer, fl/m = float / model (model's slowdown), ratio =\n"
       "model / MPFR, ratio+cv = model / MPFR+cv. oracle = ru::num::mpfr_apply, the test oracle (bits\n"
       "in/out). The ratio lines use %s.\n\n",
-      n, ru::num::round_name(rm), reps, min_time, resident ? "MPFR (--baseline resident)" : "MPFR+cv (--baseline convert)");
+      n, ru::num::round_name(rm), reps, min_time, isa_name(ru::num::batch_isa()), resident ? "MPFR (--baseline resident)" : "MPFR+cv (--baseline convert)");
   std::printf("%-8s %-5s %9s %9s %9s %9s %9s %9s %8s %8s %9s %9s %9s\n", "format", "op", "model", "batch", "peer", "float",
               "MPFR", "MPFR+cv", "m/peer", "fl/m", "ratio", "ratio+cv", "oracle");
   for (const Format& f : fmts) {
