@@ -1,6 +1,7 @@
-// The batch API of the format model (num/batch.hpp): one format dispatch per call, then the
-// scalar fast paths (detail/fast_paths.hpp, detail/double_paths.hpp) element by element with the
-// general path as fallback -- the same code as the scalar functions, so the same bits and flags.
+// The batch API of the format model (num/batch.hpp): the vector paths below for the blocks of
+// lanes they can take (AVX-512 / AVX2), then one format dispatch and the scalar fast paths
+// (detail/fast_paths.hpp, detail/double_paths.hpp) element by element with the general path as
+// fallback -- the same code as the scalar functions, so the same bits and flags.
 #include "rayunits/num/batch.hpp"
 
 #include <atomic>

@@ -2,10 +2,12 @@
 // the renderer can use"): y[i] = op(a[i], b[i]) with exactly the bits and flags of the scalar
 // ru::num::add/sub/mul/div/sqrt/fma (format.hpp) -- the same fast paths and general fallback,
 // with the format's dispatch (e8m23, e7m16, e5m10 compiled with constant widths, others
-// dynamic) done once per call instead of once per operation. flags may be null; the return
-// value is the OR of every element's flags. Arrays may alias y only element for element
-// (y == a is fine). Checked against the scalar functions bit for bit (tests/num/test_batch.cpp);
-// speed: `rayunits bench fp` (column "batch").
+// dynamic) done once per call instead of once per operation, and vector paths (AVX-512 / AVX2,
+// round to nearest even, M <= 24; batch.cpp) for the common case of normal operands and
+// results. flags may be null; the return value is the OR of every element's flags. Arrays may
+// alias y only element for element (y == a is fine). Checked against the scalar functions bit
+// for bit on every path the CPU has (tests/num/test_batch.cpp); speed: `rayunits bench fp`
+// (column "batch", --batch-isa).
 #pragma once
 #include <cstddef>
 #include <cstdint>
