@@ -53,8 +53,8 @@ int run_trax_cmd(int argc, char** argv) {
                  "test only: flip bit 0 of the golden result of the N-th co-simulated operation (must be caught)");
   std::string cosim_inject_op;
   app.add_option("--cosim-inject-op", cosim_inject_op,
-                 "test only: with --cosim-inject, count only operations of this class (box, tri, noise, fadd, fmul, "
-                 "fdiv, fsqrt, fcmp, ffma)");
+                 "test only: with --cosim-inject, count only operations of this class (an operation with an operand "
+                 "record: box, tri, noise, fadd, ...)");
   if (!parse_args(app, argc, argv)) return 0;
 
   trax::Config cfg;
@@ -116,12 +116,17 @@ int run_trax_cmd(int argc, char** argv) {
   int inject_op = -1;
   if (!cosim_inject_op.empty()) {
     if (cosim_inject < 0) throw UsageError("--cosim-inject-op needs --cosim-inject");
-    for (const trax::Op op : {trax::Op::Box, trax::Op::Tri, trax::Op::Noise, trax::Op::FAdd, trax::Op::FMul,
-                              trax::Op::FDiv, trax::Op::FSqrt, trax::Op::FCmp, trax::Op::FFma})
-      if (cosim_inject_op == trax::op_name(op)) inject_op = static_cast<int>(op);
+    // the co-simulated operations: those with an operand record (trax::unit_inputs), the texture
+    // unit excepted (not co-simulated in a chip run)
+    std::string accepted;
+    for (int i = 0; i < trax::kOps; ++i) {
+      const auto op = static_cast<trax::Op>(i);
+      if (trax::unit_inputs(op) == 0 || op == trax::Op::Texture) continue;
+      accepted += (accepted.empty() ? "" : ", ") + std::string(trax::op_name(op));
+      if (cosim_inject_op == trax::op_name(op)) inject_op = i;
+    }
     if (inject_op < 0)
-      throw UsageError("--cosim-inject-op: unknown operation '" + cosim_inject_op +
-                       "' (accepted: box, tri, noise, fadd, fmul, fdiv, fsqrt, fcmp, ffma)");
+      throw UsageError("--cosim-inject-op: unknown operation '" + cosim_inject_op + "' (accepted: " + accepted + ")");
   }
   std::unique_ptr<trax::cosim::Client> client;
   if (cosim) {

@@ -18,6 +18,7 @@
 // empty pipeline skips idle cycles (its valid pipeline is all zeros, so no result can be lost
 // or invented in them). The operand records' word layout is trax::unit_words (thread.hpp),
 // mapped onto the registry's fields by port name and checked against them.
+#include <cctype>
 #include <cinttypes>
 #include <cstdio>
 #include <cstdlib>
@@ -94,19 +95,12 @@ void reply(const std::string& s) {
   std::exit(2);
 }
 
-const char* op_label(Op op) {
-  switch (op) {
-    case Op::Box: return "BOX";
-    case Op::Tri: return "TRI";
-    case Op::Noise: return "NOISE";
-    case Op::FAdd: return "FADD";
-    case Op::FMul: return "FMUL";
-    case Op::FDiv: return "FDIV";
-    case Op::FSqrt: return "FSQRT";
-    case Op::FCmp: return "FCMP";
-    case Op::FFma: return "FFMA";
-    default: return "?";
-  }
+// The operation's name in messages: trax::op_name in capitals ("FADD", "BOX").
+std::string op_label(Op op) {
+  if (static_cast<int>(op) >= ru::trax::kOps) return "?";
+  std::string s = ru::trax::op_name(op);
+  for (char& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return s;
 }
 
 

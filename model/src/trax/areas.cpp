@@ -332,7 +332,7 @@ ChipClock sta_clock(const Config& c, const std::vector<AreaSource>& sources, con
   std::string untimed;
   for (int i = 0; i < kUnits; ++i) {
     if (!used.empty() && !used[i]) continue;
-    if (static_cast<Unit>(i) == Unit::FpFma && !c.fma) continue;  // not on the chip
+    if (!unit_on_chip(c, static_cast<Unit>(i))) continue;
     const UnitCfg& u = c.units[i];
     const char* name = unit_name(static_cast<Unit>(i));
     if (!(u.fmax_mhz > 0)) {
@@ -396,9 +396,8 @@ Config resolve_config(const Config& in, std::vector<AreaSource>* sources) {
       srcs.push_back(src);
       continue;
     }
-    if (u == Unit::FpFma && !c.fma) {  // the kernel issues no fma: no unit on the chip, no row needed
+    if (!unit_on_chip(c, u)) {  // no row needed (chip.fma = false: the kernel issues no FFMA)
       k.area = 0;
-      src.unit = "fp_fma";
       src.how = "not used (chip.fma = false)";
       srcs.push_back(src);
       continue;

@@ -33,7 +33,7 @@ const std::vector<FpUnit>& fp_units() {
 std::vector<FpUnit> chip_fp_units(const Config& c) {
   std::vector<FpUnit> v;
   for (const FpUnit& u : fp_units())
-    if (u.unit != Unit::FpFma || c.fma) v.push_back(u);
+    if (unit_on_chip(c, u.unit)) v.push_back(u);
   return v;
 }
 

@@ -161,6 +161,11 @@ struct Config {
 // 64 B lines 1 cycle, L2 512 KB 8 banks 3 cycles.
 Config default_config();
 
+// Whether the configuration puts unit u on the chip at all: every unit class is there (and is
+// instantiated when the kernel issues to it) except fp_fma without chip.fma. A unit not on the
+// chip needs no area row, has no clock and is not co-simulated.
+inline bool unit_on_chip(const Config& c, Unit u) { return u != Unit::FpFma || c.fma; }
+
 // The RTL Stages of the box / triangle / noise unit for this chip (TOML latency = "rtl"): the
 // unit's chain of FP levels (rtl/ru_ray_box.sv, ru_ray_tri_robust.sv, ru_ray_tri_mt.sv), each
 // level pipelined like the chip's own FP unit of that kind, so the unit runs at the chip's clock:
