@@ -90,7 +90,7 @@ int run_dp(int argc, char** argv) {
     }
     if (!fs::is_directory(out)) throw UsageError("--out: no such directory: " + out);
     synth::write_file_atomic((fs::path(out) / (module + ".sv")).string(), sv);
-    synth::write_file_atomic((fs::path(out) / (module + ".f")).string(), dp::emit_filelist(module));
+    synth::write_file_atomic((fs::path(out) / (module + ".f")).string(), dp::emit_filelist(module, g));
     std::printf("wrote %s/%s.sv and %s.f\n", out.c_str(), module.c_str(), module.c_str());
   }
   return 0;

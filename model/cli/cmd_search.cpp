@@ -31,7 +31,7 @@ std::string fmt_g(double v, int prec = 4) {
 }
 
 std::string csv_header() {
-  return "genome,area_um2,units_um2,reg_um2,latency,add,mul,div,cmp,mean_rel,max_rel,mean_rel_t,mean_rel_beta,"
+  return "genome,area_um2,units_um2,reg_um2,latency,add,mul,div,cmp,fma,mean_rel,max_rel,mean_rel_t,mean_rel_beta,"
          "mean_rel_gamma,nan,false_hits,false_misses,leaks,double_hits,misses,extras,role";
 }
 
@@ -42,7 +42,7 @@ std::string csv_row(const dp::TriGenome& g, const dp::Fitness& f, const std::str
   };
   return dp::genome_name(g) + "," + fmt_g(f.cost.area_um2, 8) + "," + fmt_g(f.cost.units_um2, 8) + "," +
          fmt_g(f.cost.reg_um2, 8) + "," + std::to_string(f.cost.latency) + "," + op("add") + "," + op("mul") + "," +
-         op("div") + "," + op("cmp") + "," + fmt_g(f.mean_rel, 6) + "," + fmt_g(f.max_rel, 6) + "," +
+         op("div") + "," + op("cmp") + "," + op("fma") + "," + fmt_g(f.mean_rel, 6) + "," + fmt_g(f.max_rel, 6) + "," +
          fmt_g(f.mean_tbg[0], 6) + "," + fmt_g(f.mean_tbg[1], 6) + "," + fmt_g(f.mean_tbg[2], 6) + "," +
          std::to_string(f.nan) + "," + std::to_string(f.false_hits) + "," + std::to_string(f.false_misses) + "," +
          std::to_string(f.leaks) + "," + std::to_string(f.double_hits) + "," + std::to_string(f.misses()) + "," +
@@ -59,13 +59,14 @@ int run_search_cmd(int argc, char** argv) {
                "rayunits search"};
   app.require_subcommand(1);
   auto* tri = app.add_subcommand("tri", "ray-triangle formulations (the only kind so far)");
-  std::string format = "e7m16", clock = "250MHz", out, start = "fig36", trace, mesh_name = "icosphere", rows,
+  std::string format = "e7m16", clock = "250MHz", out, start = "fig36", trace, mesh_name = "icosphere",
               library = "osu018";
   long budget = 480;
+  std::vector<std::string> rows;
   int population = 24, threads = static_cast<int>(util::hardware_threads());
   unsigned long long seed = 1;
   size_t records = 2048, mesh_rays = 400;
-  bool quiet = false, no_characterize = false, no_verify = false;
+  bool quiet = false, no_characterize = false, no_verify = false, fused = false;
   double epsilon = 0.05;
   tri->add_option("--format", format, "number format eXmY[-ftz] (default e7m16)");
   tri->add_option("--clock", clock, "target clock (250MHz, 4ns, 4000ps; default 250MHz)");
@@ -81,7 +82,9 @@ int run_search_cmd(int argc, char** argv) {
                   std::string("closed mesh for the watertightness counts: a .off/.obj file or ") +
                       units::builtin_mesh_names() + " (default icosphere)");
   tri->add_option("--mesh-rays", mesh_rays, "edge + vertex rays (and half as many near-vertex rays) (default 400)");
-  tri->add_option("--rows", rows, "directory of cell-flow rows (default <source>/synth/results/cell)");
+  tri->add_option("--rows", rows,
+                  "directory or .jsonl file of cell-flow rows; repeat for several (default <source>/synth/results/cell)")
+      ->check(CLI::ExistingPath);
   tri->add_option("--library", library, "cell library of the rows (default osu018)");
   tri->add_option("--threads", threads, "evaluation threads (default: all cores)");
   tri->add_flag("--no-characterize", no_characterize,
@@ -91,6 +94,9 @@ int run_search_cmd(int argc, char** argv) {
   tri->add_flag("--no-verify", no_verify,
                 "skip the cycle-by-cycle verification of the reported designs (they are then marked "
                 "'not verified')");
+  tri->add_flag("--fused", fused,
+                "also move over fused multiply-adds (gene u: dot products, then cross products as ru_fp_fma; "
+                "characterizes fp_fma at the clock)");
   tri->add_flag("--quiet", quiet, "no progress lines");
   if (!parse_args(app, argc, argv)) return 0;
 
@@ -100,7 +106,7 @@ int run_search_cmd(int argc, char** argv) {
   const double period_ps = synth::parse_clock_ps("--clock", clock);
   if (budget < population) throw UsageError("--budget must be at least --population (" + std::to_string(population) + ")");
   if (records < 1) throw UsageError("--records must be at least 1");
-  if (rows.empty()) rows = (fs::path(synth::default_rtl_dir()).parent_path() / "synth" / "results" / "cell").string();
+  if (rows.empty()) rows = {(fs::path(synth::default_rtl_dir()).parent_path() / "synth" / "results" / "cell").string()};
   const dp::TriGenome start_genome = [&] {
     try {
       return dp::start_genome(start);
@@ -108,6 +114,8 @@ int run_search_cmd(int argc, char** argv) {
       throw UsageError(std::string("--start: ") + e.what());
     }
   }();
+  if (start_genome.fuse != 0 && !fused)
+    throw UsageError("--start " + start + " has fused operations (gene u): add --fused");
   auto say = [&](const std::string& s) {
     if (!quiet) std::fprintf(stderr, "[search tri] %s\n", s.c_str());
   };
@@ -137,8 +145,8 @@ int run_search_cmd(int argc, char** argv) {
   if (!no_characterize) fs::create_directories(out);
   const dp::CostModel cm = [&] {
     try {
-      return dp::CostModel::build({rows}, lib, fmt, period_ps,
-                                  no_characterize ? "" : (fs::path(out) / "cell_rows.jsonl").string(), say);
+      return dp::CostModel::build(rows, lib, fmt, period_ps,
+                                  no_characterize ? "" : (fs::path(out) / "cell_rows.jsonl").string(), say, fused);
     } catch (...) {
       std::error_code ec;
       if (made_out && fs::is_empty(out, ec)) fs::remove(out, ec);  // nothing half-made left behind
@@ -170,6 +178,7 @@ int run_search_cmd(int argc, char** argv) {
   so.out_dir = out;
   so.start = start_genome;
   so.start_name = start;
+  so.fused = fused;
   so.population = population;
   so.generations = static_cast<int>(std::max(0L, (budget + population - 1) / population - 1));
   so.seed = seed;
@@ -218,7 +227,7 @@ int run_search_cmd(int argc, char** argv) {
     synth::write_file_atomic((dd / (st + ".dp")).string(), g.print());
     synth::write_file_atomic((rd / (module + ".sv")).string(),
                              dp::emit_sv(g, module, "genome " + dp::genome_name(reported[i].genome)));
-    synth::write_file_atomic((rd / (module + ".f")).string(), dp::emit_filelist(module));
+    synth::write_file_atomic((rd / (module + ".f")).string(), dp::emit_filelist(module, g));
   }
   if (verify) {
     ::setenv("RU_DP_DESIGNS", fs::absolute(dd).c_str(), 1);  // for the children (rtl, its tb)
@@ -246,7 +255,7 @@ int run_search_cmd(int argc, char** argv) {
   for (size_t i = 0; i < reported.size(); ++i) {
     const auto& c = reported[i];
     front.push_back({{"genome", dp::genome_name(c.genome)}, {"unit", "dp_" + stem_of(c.genome)},
-                     {"genes", dp::to_vector(c.genome)}, {"key", c.key}, {"fitness", to_json(c.fit)},
+                     {"genes", dp::genes_record(c.genome)}, {"key", c.key}, {"fitness", to_json(c.fit)},
                      {"rtl", status[i]}});
     csv += csv_row(c.genome, c.fit, "front") + "," + status[i] + "\n";
   }

@@ -62,7 +62,7 @@ TEST(DpEmit, LevelKindsAreTheHandWrittenUnits) {
 
 struct LintCase {
   const char* top;
-  bool robust;
+  const char* genome;  // the design (rayunits search tri genome name)
   const char* fmt;  // -G overrides
   int stages;
 };
@@ -73,9 +73,10 @@ void lint(const std::vector<LintCase>& cases) {
   const std::string rtl = std::string(RU_SOURCE_DIR) + "/rtl/";
   for (const LintCase& c : cases) {
     const std::string sv = (t.p / (std::string(c.top) + ".sv")).string();
-    std::ofstream(sv) << emit_sv(c.robust ? ray_tri_robust_graph(true, false) : ray_tri_mt_graph(), c.top);
+    const Graph g = tri_graph(parse_genome_name(c.genome));
+    std::ofstream(sv) << emit_sv(g, c.top);
     std::vector<std::string> argv = {"verilator", "--lint-only", "-Wall", "-I" + rtl, "--top-module", c.top};
-    for (const auto& f : emit_sources()) argv.push_back(rtl + f);
+    for (const auto& f : emit_sources(g)) argv.push_back(rtl + f);
     argv.push_back(sv);
     const std::string f = c.fmt;
     argv.push_back(f.substr(0, f.find(' ')));
@@ -91,17 +92,25 @@ void lint(const std::vector<LintCase>& cases) {
   }
 }
 
-// fast: one format, Stages 0 (MT) and beyond the useful maximum (robust: output registers)
+constexpr const char* kMt = "mt-q1-i0-p0";                   // ray_tri_mt
+constexpr const char* kRobust = "sv-f0-o0-d0-a0-q0-i0-t1-p0";  // ray_tri_robust_tie
+constexpr const char* kFused = "sv-f0-o0-d0-a0-q0-i0-t1-p0-u2";  // the same with fused dot and cross products
+
+// fast: one format, Stages 0 (MT) and beyond the useful maximum (robust: output registers); the
+// fused robust unit at Stages 0 and mid
 TEST(DpEmit, EmittedUnitsAreLintClean) {
-  lint({{"ru_dp_mt", false, "-GExpW=5 -GFracW=10", 0}, {"ru_dp_robust", true, "-GExpW=5 -GFracW=10", 80}});
+  lint({{"ru_dp_mt", kMt, "-GExpW=5 -GFracW=10", 0},
+        {"ru_dp_robust", kRobust, "-GExpW=5 -GFracW=10", 80},
+        {"ru_dp_fused", kFused, "-GExpW=5 -GFracW=10", 0},
+        {"ru_dp_fused", kFused, "-GExpW=5 -GFracW=10", 23}});
 }
 
-// long: both units, two formats, Stages 0, mid and beyond the maximum
+// long: the three units, two formats, Stages 0, mid and beyond the maximum
 TEST(LongDpEmit, EmittedUnitsAreLintClean) {
   std::vector<LintCase> cases;
-  for (bool robust : {false, true})
+  for (const char* genome : {kMt, kRobust, kFused})
     for (const char* fmt : {"-GExpW=5 -GFracW=10", "-GExpW=8 -GFracW=23"})
-      for (int stages : {0, 9, 80}) cases.push_back({robust ? "ru_dp_robust" : "ru_dp_mt", robust, fmt, stages});
+      for (int stages : {0, 9, 80}) cases.push_back({"ru_dp_unit", genome, fmt, stages});
   lint(cases);
 }
 
@@ -114,7 +123,7 @@ TEST(DpRtl, CheckedInModulesAreTheEmitterOutput) {
     const std::string design = u.name.substr(3), rtl = std::string(RU_SOURCE_DIR) + "/rtl/";
     EXPECT_EQ(ru::test::slurp(rtl + u.top + ".sv"), emit_sv(find_design(design).make(), u.top, find_design(design).origin()))
         << "rtl/" << u.top << ".sv is stale: rayunits dp emit " << design << " --out rtl";
-    EXPECT_EQ(ru::test::slurp(rtl + u.top + ".f"), emit_filelist(u.top));
+    EXPECT_EQ(ru::test::slurp(rtl + u.top + ".f"), emit_filelist(u.top, find_design(design).make()));
     ++n;
   }
   EXPECT_EQ(n, 2);
@@ -181,6 +190,19 @@ TEST(DpEmit, MaxStagesOfEveryLevelKindIsTheRtls) {
     g.output("r", g.lt(g.div(g.sub(p, in(g, "az")), in(g, "dx")), in(g, "tmax")));
     cases.push_back({"mixed", g});
   }
+  {  // an fma level (weighed as a multiplier level), and one shared by an fma and a multiplier
+    Graph g = with_inputs();
+    g.output("r", g.fma(in(g, "ax"), in(g, "ay"), in(g, "az")));
+    cases.push_back({"fma1", g});
+  }
+  {
+    Graph g = with_inputs();
+    const int f = g.fma(in(g, "ax"), in(g, "ay"), g.neg(in(g, "az")));
+    const int m = g.mul(in(g, "dx"), in(g, "dy"));
+    g.output("r", g.fma(f, m, in(g, "dz")));
+    g.output("s", m);
+    cases.push_back({"fma_mul", g});
+  }
   const ru::synth::UnitSpec base = ru::synth::find_unit("dp_ray_tri_mt");
   std::vector<ru::synth::UnitConfig> cfgs;
   for (const char* f : {"e5m10", "e8m23"}) cfgs.push_back(ru::synth::UnitConfig{ru::num::Format::parse(f), 0, {}, {}});
@@ -191,7 +213,7 @@ TEST(DpEmit, MaxStagesOfEveryLevelKindIsTheRtls) {
     u.filelist = u.top + ".f";
     u.max_stages_expr = max_stages_expr(c.g);
     std::ofstream(t.p / (u.top + ".sv")) << emit_sv(c.g, u.top);
-    std::ofstream(t.p / u.filelist) << emit_filelist(u.top);
+    std::ofstream(t.p / u.filelist) << emit_filelist(u.top, c.g);
     const auto bad = ru::synth::check_against_rtl(u, cfgs, t.p.string());
     EXPECT_TRUE(bad.empty()) << c.name << " (" << u.max_stages_expr << "): " << (bad.empty() ? "" : bad.front());
     if (std::string(c.name) == "mixed") {  // planted: one segment too many or too few
@@ -204,10 +226,6 @@ TEST(DpEmit, MaxStagesOfEveryLevelKindIsTheRtls) {
 }
 
 TEST(DpEmit, UnsupportedGraphsAreOneLineErrors) {
-  Graph g;
-  const int x = g.input("x");
-  g.output("y", g.fma(x, x, x));
-  EXPECT_THROW(emit_sv(g, "m"), IrError);  // no level kind for fma yet
   Graph h;
   const int a = h.input("a");
   h.output("y", h.mul(a, h.constant(3.0)));

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -79,7 +80,8 @@ std::vector<TriGenome> all_canonical_genomes() {
 
 TEST(SearchGenome, EveryGenomeIsTheExactReferenceFunction) {
   const auto gs = all_canonical_genomes();
-  EXPECT_EQ(gs.size(), 10u * 4 * 4 * 2 * 2 * 2 * 3 + 2 * 2 * 3);  // form x origin (form 3: none), denom, va, ...
+  // (form x origin (form 3: none), denom, va, ... + Moller-Trumbore's q, i, p) x the three fuse values
+  EXPECT_EQ(gs.size(), 3u * (10u * 4 * 4 * 2 * 2 * 2 * 3 + 2 * 2 * 3));
   const auto recs = records(5, 2);
   for (const auto& g : gs) ASSERT_EQ(exact_mismatches(tri_graph(g), recs), 0) << genome_name(g);
 }
@@ -98,7 +100,9 @@ TEST(SearchGenome, NamesRoundTripAndBadNamesAreOneLineErrors) {
   for (const auto& g : all_canonical_genomes()) ASSERT_EQ(genome_name(parse_genome_name(genome_name(g))), genome_name(g));
   EXPECT_EQ(genome_name(fig36_genome()), "sv-f0-o0-d0-a0-q0-i0-t0-p0");
   EXPECT_EQ(genome_name(mt_genome()), "mt-q1-i0-p0");
-  for (const char* bad : {"", "sv", "sv-f4-o0-d0-a0-q0-i0-t0-p0", "mt-q1-i0", "xx-q1-i0-p0", "sv-f0-o0-d0-a0-q0-i0-t0-p0-"}) {
+  for (const char* bad : {"", "sv", "sv-f4-o0-d0-a0-q0-i0-t0-p0", "mt-q1-i0", "xx-q1-i0-p0", "sv-f0-o0-d0-a0-q0-i0-t0-p0-",
+                          "sv-f0-o0-d0-a0-q0-i0-t0-p0-u0", "sv-f0-o0-d0-a0-q0-i0-t0-p0-u3", "mt-q1-i0-p0-x1",
+                          "mt-q1-i0-p0-u1-u1"}) {
     try {
       parse_genome_name(bad);
       ADD_FAILURE() << "accepted '" << bad << "'";
@@ -109,6 +113,86 @@ TEST(SearchGenome, NamesRoundTripAndBadNamesAreOneLineErrors) {
     }
   }
   EXPECT_THROW(start_genome("best"), IrError);
+}
+
+// The fuse gene (fused multiply-adds): counted by hand from the dataflow, names of unfused genomes
+// as before (and genomes written with nine genes read as unfused).
+TEST(SearchGenome, FusedGenomesCountTheirFmasAndOldNamesStay) {
+  auto ops = [](const std::string& name) { return tri_graph(parse_genome_name(name)).op_counts(); };
+  // Fig. 3.6: 43 add/sub, 39 mul, 3 div; five dot products (V0, V1, V2, V, Va: 2 adds + 3 muls each,
+  // fused 1 mul + 2 fmas) and four cross products (three edge volumes and the normal: 3 subs + 6 muls,
+  // fused 3 muls + 3 fmas)
+  auto f36 = ops("sv-f0-o0-d0-a0-q0-i0-t0-p0");
+  EXPECT_EQ(f36["add"], 43);
+  EXPECT_EQ(f36["mul"], 39);
+  EXPECT_EQ(f36.count("fma"), 0u);
+  auto u1 = ops("sv-f0-o0-d0-a0-q0-i0-t0-p0-u1"), u2 = ops("sv-f0-o0-d0-a0-q0-i0-t0-p0-u2");
+  EXPECT_EQ(u1["add"], 43 - 10);
+  EXPECT_EQ(u1["mul"], 39 - 10);
+  EXPECT_EQ(u1["fma"], 10);
+  EXPECT_EQ(u2["add"], 43 - 10 - 12);
+  EXPECT_EQ(u2["mul"], 39 - 10 - 12);
+  EXPECT_EQ(u2["fma"], 10 + 12);
+  EXPECT_EQ(u2["div"], 3);
+  // Moller-Trumbore: 24 add/sub, 27 mul; four dot products, two cross products
+  auto mt2 = ops("mt-q1-i0-p0-u2");
+  EXPECT_EQ(mt2["add"], 24 - 8 - 6);
+  EXPECT_EQ(mt2["mul"], 27 - 8 - 6);
+  EXPECT_EQ(mt2["fma"], 8 + 6);
+  // names and records of unfused genomes are what they were before the gene
+  TriGenome g = fig36_genome();
+  EXPECT_EQ(genes_record(g).size(), 9u);
+  g.fuse = 2;
+  EXPECT_EQ(genome_name(g), "sv-f0-o0-d0-a0-q0-i0-t0-p0-u2");
+  EXPECT_EQ(genes_record(g).size(), 10u);
+  EXPECT_EQ(genome_name(tri_genome(genes_record(g))), genome_name(g));
+  EXPECT_EQ(tri_genome(std::vector<int>(9, 0)).fuse, 0);
+  EXPECT_THROW(tri_genome(std::vector<int>(8, 0)), IrError);
+}
+
+// A fused graph is a golden model like any other: evaluated in Soft at e8m23 / e11m52 it equals the
+// same graph in float / double with std::fma, bit for bit; the comparison sees a fusion left out
+// (the unfused graph in Soft against the fused one in native arithmetic).
+template <class T>
+size_t native_mismatches(const Graph& native, const Graph& soft, const Format& f,
+                         const std::vector<ru::units::TriRecord>& recs) {
+  ru::num::SoftScope scope(f);
+  size_t bad = 0;
+  for (const auto& r : recs) {
+    const auto in = tri_inputs(r);
+    std::vector<T> x;
+    std::vector<ru::num::Soft> xs;
+    for (double v : in) x.push_back(static_cast<T>(v)), xs.push_back(ru::num::Soft::from_double(static_cast<T>(v)));
+    const auto a = evaluate<T>(native, x);
+    const auto b = evaluate<ru::num::Soft>(soft, xs);
+    bool same = true;
+    for (const auto& [name, n] : native.outputs()) {
+      const int m = soft.output_node(name);
+      if (op_is_bool(native.nodes()[n].op)) {
+        same &= a[n].b == b[m].b;
+      } else {
+        const double u = static_cast<double>(a[n].v), v = b[m].v.to_double();
+        same &= (std::isnan(u) && std::isnan(v)) || std::memcmp(&u, &v, sizeof u) == 0;
+      }
+    }
+    bad += !same;
+  }
+  return bad;
+}
+
+TEST(SearchGenome, FusedGraphsEqualNativeFmaBitForBit) {
+  const auto recs = records(9, 400);
+  for (const char* name : {"sv-f0-o0-d0-a0-q0-i0-t0-p0-u1", "sv-f0-o0-d0-a0-q0-i0-t1-p1-u2", "sv-f2-o1-d3-a3-q1-i1-t0-p2-u2",
+                           "mt-q1-i0-p0-u2", "mt-q0-i1-p1-u1"}) {
+    const Graph g = tri_graph(parse_genome_name(name));
+    EXPECT_EQ(native_mismatches<float>(g, g, Format::parse("e8m23"), recs), 0u) << name;
+    EXPECT_EQ(native_mismatches<double>(g, g, Format::parse("e11m52"), recs), 0u) << name;
+  }
+  // planted: the fusion left out on one side
+  const Graph fused = tri_graph(parse_genome_name("sv-f0-o0-d0-a0-q0-i0-t0-p0-u2"));
+  const Graph plain = tri_graph(parse_genome_name("sv-f0-o0-d0-a0-q0-i0-t0-p0"));
+  EXPECT_GT(native_mismatches<float>(fused, plain, Format::parse("e8m23"), recs), 10u);
+  EXPECT_GT(native_mismatches<double>(fused, plain, Format::parse("e11m52"), recs), 10u);
 }
 
 // Planted rows: each unit with a current rtl_hash, plus a stale row that would be the smallest.
@@ -181,6 +265,28 @@ TEST(SearchCost, NoRowOfAUnitIsAOneLineError) {
     EXPECT_EQ(m.find('\n'), std::string::npos);
     EXPECT_NE(m.find("no current osu018 row of fp_"), std::string::npos) << m;
   }
+}
+
+// fp_fma joins the model only when asked (searches with fused moves); a fused graph without it is an
+// error, with it each fma costs the fp_fma row (planted areas: by hand).
+TEST(SearchCost, FmaRowsOnlyForFusedSearches) {
+  Rows r;
+  r.realistic();
+  r.add("fp_fma", 1, 3950, 150000);
+  const auto& lib = ru::synth::cell_library("osu018");
+  const Format f = Format::parse("e7m16");
+  const CostModel plain = CostModel::build({r.dir.string()}, lib, f, 4000);
+  EXPECT_EQ(plain.units().count("fp_fma"), 0u);
+  EXPECT_THROW(plain.cost(tri_graph(parse_genome_name("mt-q1-i0-p0-u1"))), IrError);
+  const CostModel m = CostModel::build({r.dir.string()}, lib, f, 4000, "", {}, true);
+  ASSERT_EQ(m.units().count("fp_fma"), 1u);
+  EXPECT_EQ(m.units().at("fp_fma").stages, 1);
+  const double base = m.cost(tri_graph(parse_genome_name("mt-q1-i0-p0"))).units_um2;
+  const double u1 = m.cost(tri_graph(parse_genome_name("mt-q1-i0-p0-u1"))).units_um2;
+  EXPECT_DOUBLE_EQ(u1 - base, 8 * (150000.0 - 54792 - 101980));  // 8 fmas for 8 adds and 8 muls
+  Rows none;
+  none.realistic();
+  EXPECT_THROW(CostModel::build({none.dir.string()}, lib, f, 4000, "", {}, true), ru::synth::SynthError);
 }
 
 Candidate planted(const std::string& genome, double area, double mean, double max, uint64_t leaks, uint64_t dbl) {
@@ -270,6 +376,46 @@ TEST(Search, SameSeedSameFrontWhateverTheThreadsOrAResume) {
   // another seed elsewhere: another search (the check above is not vacuous)
   o.out_dir = (base / "c").string();
   EXPECT_NE(slurp(base / "a" / "state.json"), (run_search(o, fx.w, fx.cm, ctx), slurp(base / "c" / "state.json")));
+  fs::remove_all(base);
+}
+
+// Fused moves only when asked: without them every evaluated genome is unfused and state.json holds
+// nine genes per design (the files of searches before the gene); with them the search visits fused
+// genomes; a fused start without them is refused.
+TEST(Search, FusedMovesOnlyWhenAsked) {
+  Fixture fx;
+  Rows rows;
+  rows.realistic();
+  rows.add("fp_fma", 1, 3950, 150000);
+  const CostModel cm = CostModel::build({rows.dir.string()}, ru::synth::cell_library("osu018"), Format::parse("e7m16"),
+                                        4000, "", {}, true);
+  const fs::path base = fs::temp_directory_path() / "ru-search-fused";
+  fs::remove_all(base);
+  SearchOptions o;
+  o.start = fig36_genome();
+  o.population = 8;
+  o.seed = 5;
+  o.generations = 2;
+  o.threads = 2;
+  o.out_dir = (base / "plain").string();
+  run_search(o, fx.w, cm, {{"test", 3}});
+  auto fused_evaluated = [&](const fs::path& dir) {
+    std::ifstream in(dir / "evaluations.jsonl");
+    int n = 0;
+    for (std::string line; std::getline(in, line);) n += line.find("-u") != std::string::npos;
+    return n;
+  };
+  EXPECT_EQ(fused_evaluated(base / "plain"), 0);
+  for (const auto& v : nlohmann::json::parse(slurp(base / "plain" / "state.json")).at("population"))
+    EXPECT_EQ(v.size(), 9u);
+  o.fused = true;
+  o.out_dir = (base / "fused").string();
+  run_search(o, fx.w, cm, {{"test", 3}});
+  EXPECT_GT(fused_evaluated(base / "fused"), 0);
+  o.fused = false;
+  o.start.fuse = 1;
+  o.out_dir = (base / "refused").string();
+  EXPECT_THROW(run_search(o, fx.w, cm, {{"test", 3}}), IrError);
   fs::remove_all(base);
 }
 

@@ -11,11 +11,22 @@ namespace ru::dp {
 
 namespace {
 bool is_unit(Op o) { return *op_unit(o) != '\0'; }
-int kind_of(Op o) {  // ru_fp_pkg::KAdd 0, KMul 1, KDiv 2, KCmp 3
+// The level kind a node asks for: ru_fp_pkg::KAdd 0, KMul 1, KDiv 2, KCmp 3. An fma asks for KMul:
+// the level chain's kind table (ru_fp_pkg::op_nsegs / op_wts, ru_pipe_pkg::MaxKind = 4) has no fma
+// kind, and adding one would change those packages and with them the rtl_hash of every
+// characterized cell row. A level holding an fma is weighed as a multiplier level (the fma's
+// product tree is that level's depth, its add-normalize-round tail is not counted) and the fma
+// instance places its lat(k) registers itself (automatic placement).
+int kind_of(Op o) {
   const std::string u = op_unit(o);
-  if (u == "fp_fma") throw IrError("emit: fma has no level kind in ru_pipe_pkg yet");
-  return u == "fp_add" ? 0 : u == "fp_mul" ? 1 : u == "fp_div" ? 2 : 3;
+  return u == "fp_add" ? 0 : u == "fp_mul" || u == "fp_fma" ? 1 : u == "fp_div" ? 2 : 3;
 }
+const char* unit_module(Op o) {
+  const std::string u = op_unit(o);
+  return u == "fp_add" ? "ru_fp_add" : u == "fp_mul" ? "ru_fp_mul" : u == "fp_div" ? "ru_fp_div" : u == "fp_fma" ? "ru_fp_fma" : "ru_fp_cmp";
+}
+// The unit whose segments a level kind describes (its instances take the level's cut selection).
+const char* kind_unit(int k) { return k == 0 ? "fp_add" : k == 1 ? "fp_mul" : k == 2 ? "fp_div" : "fp_cmp"; }
 int weight(int kind) { return kind == 2 ? 3 : kind == 1 ? 2 : kind == 0 ? 1 : 0; }
 const char* kind_name(int k) { return k == 0 ? "KAdd" : k == 1 ? "KMul" : k == 2 ? "KDiv" : "KCmp"; }
 constexpr int kMaxLev = 16;  // ru_pipe_pkg::MaxLev
@@ -65,9 +76,15 @@ std::vector<std::string> emit_sources() {
           "ru_fp_round_pack.sv", "ru_umul.sv", "ru_fp_add.sv", "ru_fp_mul.sv", "ru_fp_div.sv", "ru_fp_cmp.sv"};
 }
 
-std::string emit_filelist(const std::string& module) {
+std::vector<std::string> emit_sources(const Graph& g) {
+  std::vector<std::string> s = emit_sources();
+  if (g.op_counts().count("fma")) s.push_back("ru_fp_fma.sv");
+  return s;
+}
+
+std::string emit_filelist(const std::string& module, const Graph& g) {
   std::string f;
-  for (const auto& s : emit_sources()) f += s + "\n";
+  for (const auto& s : emit_sources(g)) f += s + "\n";
   return f + module + ".sv\n";
 }
 
@@ -152,7 +169,9 @@ std::string emit_sv(const Graph& g, const std::string& module, const std::string
       const int lev = L.level[id];
       const int k = kind_of(n.op);
       const std::string A = value_at(n.a, lev), B = value_at(n.b, lev);
-      const char* mod = k == 0 ? "ru_fp_add" : k == 1 ? "ru_fp_mul" : k == 2 ? "ru_fp_div" : "ru_fp_cmp";
+      const std::string C = n.op == Op::Fma ? value_at(n.c, lev) : "";
+      const char* mod = unit_module(n.op);
+      const bool lcut = k == L.kind[lev] && std::string(op_unit(n.op)) == kind_unit(k);
       std::string a = A, bb = B, op;
       switch (n.op) {
         case Op::Add: op = "1'b0"; break;
@@ -164,14 +183,16 @@ std::string emit_sv(const Graph& g, const std::string& module, const std::string
         case Op::Eq: op = "3'd2"; break;
         case Op::Min: op = "3'd3"; break;
         case Op::Max: op = "3'd4"; break;
+        case Op::Fma: op = "2'd0"; break;  // a*b + c (a subtraction is an fma on a neg node)
         default: break;
       }
       const bool bool_out = op_is_bool(n.op);
       if (bool_out)  // a comparison's result is bit 0 of y_o
         b << "  /* verilator lint_off UNUSEDSIGNAL */ logic [W-1:0] " << s << "_y; /* verilator lint_on UNUSEDSIGNAL */\n";
       b << "  " << mod << " #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(" << lev
-        << ")), .Subnormals(Subnormals), .Round(Round)" << (k == L.kind[lev] ? ", .CutSel(lcut(" + std::to_string(lev) + "))" : "")
+        << ")), .Subnormals(Subnormals), .Round(Round)" << (lcut ? ", .CutSel(lcut(" + std::to_string(lev) + "))" : "")
         << ") u_" << s << " (\n    .clk_i, .rst_ni, .in_valid_i(1'b1), .a_i(" << a << "), .b_i(" << bb << ")"
+        << (n.op == Op::Fma ? ", .c_i(" + C + ")" : "")
         << (op.empty() ? "" : ", .op_i(" + op + ")") << ",\n    .out_valid_o(unused_valid[" << nunits
         << "]), .y_o(" << (bool_out ? s + "_y" : s) << "), .flags_o(unused_flags[" << 5 * nunits << " +: 5]));\n";
       if (bool_out) b << "  assign " << s << " = " << s << "_y[0];\n";

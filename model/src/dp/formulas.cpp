@@ -14,16 +14,29 @@ struct V3 {
 
 // The vec.hpp operation orders (docs/UNITS.md "Dataflow").
 V3 vsub(Graph& g, V3 u, V3 v) { return {g.sub(u.x, v.x), g.sub(u.y, v.y), g.sub(u.z, v.z)}; }
-V3 cross(Graph& g, V3 u, V3 v) {
-  const int x = g.sub(g.mul(u.y, v.z), g.mul(u.z, v.y));
-  const int y = g.sub(g.mul(u.z, v.x), g.mul(u.x, v.z));
-  const int z = g.sub(g.mul(u.x, v.y), g.mul(u.y, v.x));
+// u x v; fused (TriGenome::fuse 2): each component as one fma on the second product's negation,
+// u_y v_z - u_z v_y = fma(u_y, v_z, -(u_z v_y)) (one rounding of the difference and the first product).
+V3 cross(Graph& g, V3 u, V3 v, bool fused = false) {
+  auto comp = [&](int a, int b, int c, int d) {  // a b - c d
+    if (fused) return g.fma(a, b, g.neg(g.mul(c, d)));
+    return g.sub(g.mul(a, b), g.mul(c, d));
+  };
+  const int x = comp(u.y, v.z, u.z, v.y);
+  const int y = comp(u.z, v.x, u.x, v.z);
+  const int z = comp(u.x, v.y, u.y, v.x);
   return {x, y, z};
 }
 // dot(u, v) in one of three associations (TriGenome::dot); 0 is vec.hpp's (xx + yy) + zz.
 // (Node order of association 0: yy, xx, xx + yy, zz, sum — the order the checked-in emitted RTL
-// has, rtl/ru_dp_*.sv.)
-int dot(Graph& g, V3 u, V3 v, int assoc = 0) {
+// has, rtl/ru_dp_*.sv.) Fused (TriGenome::fuse >= 1): the same association as a chain of fmas on
+// the one product that is added first: (xx + yy) + zz = fma(z, z', fma(x, x', yy)),
+// xx + (yy + zz) = fma(x, x', fma(y, y', zz)), (xx + zz) + yy = fma(y, y', fma(x, x', zz)).
+int dot(Graph& g, V3 u, V3 v, int assoc = 0, bool fused = false) {
+  if (fused) {
+    if (assoc == 1) return g.fma(u.x, v.x, g.fma(u.y, v.y, g.mul(u.z, v.z)));
+    if (assoc == 2) return g.fma(u.y, v.y, g.fma(u.x, v.x, g.mul(u.z, v.z)));
+    return g.fma(u.z, v.z, g.fma(u.x, v.x, g.mul(u.y, v.y)));
+  }
   if (assoc == 1) {
     const int xx = g.mul(u.x, v.x), yy = g.mul(u.y, v.y), zz = g.mul(u.z, v.z);
     return g.add(xx, g.add(yy, zz));
@@ -141,21 +154,21 @@ Graph signed_volume_graph(const TriGenome& G) {
     for (int i = 0; i < 3; ++i)
       am[i] = G.origin == 0 ? select(g, s[i], ap[J[i]], ap[K[i]]) : G.origin == 1 ? ap[J[i]] : ap[K[i]];
     for (int i = 0; i < 3; ++i) {
-      if (G.edge_form == 0) Vi[i] = dot(g, cross(g, am[i], in.d), e[i], G.dot);
-      else if (G.edge_form == 1) Vi[i] = dot(g, cross(g, in.d, e[i]), am[i], G.dot);
-      else Vi[i] = dot(g, cross(g, e[i], am[i]), in.d, G.dot);
+      if (G.edge_form == 0) Vi[i] = dot(g, cross(g, am[i], in.d, G.fuse >= 2), e[i], G.dot, G.fuse >= 1);
+      else if (G.edge_form == 1) Vi[i] = dot(g, cross(g, in.d, e[i], G.fuse >= 2), am[i], G.dot, G.fuse >= 1);
+      else Vi[i] = dot(g, cross(g, e[i], am[i], G.fuse >= 2), in.d, G.dot, G.fuse >= 1);
     }
   } else {
     for (int j = 0; j < 3; ++j) p_minus_a(j);
-    for (int i = 0; i < 3; ++i) Vi[i] = dot(g, cross(g, pa[K[i]], pa[J[i]]), in.d, G.dot);
+    for (int i = 0; i < 3; ++i) Vi[i] = dot(g, cross(g, pa[K[i]], pa[J[i]], G.fuse >= 2), in.d, G.dot, G.fuse >= 1);
   }
   V3 N{};
-  if (need_normal) N = cross(g, e[kPair[npair][0]], e[kPair[npair][1]]);
-  const int V = G.denom < 3 ? dot(g, N, in.d, G.dot) : g.add(g.add(Vi[0], Vi[1]), Vi[2]);
+  if (need_normal) N = cross(g, e[kPair[npair][0]], e[kPair[npair][1]], G.fuse >= 2);
+  const int V = G.denom < 3 ? dot(g, N, in.d, G.dot, G.fuse >= 1) : g.add(g.add(Vi[0], Vi[1]), Vi[2]);
   // Va = N . (p_k - a) for any vertex k, or the triple product (u1 x u0) . u2 of u_k = p_k - a
   static const int kVaVertex[3] = {2, 0, 1};
-  const int Va = G.va < 3 ? dot(g, N, p_minus_a(kVaVertex[G.va]), G.dot)
-                          : dot(g, cross(g, p_minus_a(1), p_minus_a(0)), p_minus_a(2), G.dot);
+  const int Va = G.va < 3 ? dot(g, N, p_minus_a(kVaVertex[G.va]), G.dot, G.fuse >= 1)
+                          : dot(g, cross(g, p_minus_a(1), p_minus_a(0), G.fuse >= 2), p_minus_a(2), G.dot, G.fuse >= 1);
   const auto [t, beta, gamma] = divide(g, G.divide, V, {Va, Vi[1], Vi[2]});
   const int zero = g.constant(0.0);
   const int any_neg = g.lor(g.lor(g.lt(Vi[0], zero), g.lt(Vi[1], zero)), g.lt(Vi[2], zero));
@@ -177,12 +190,12 @@ Graph mt_graph(const TriGenome& G) {
   const V3 e1 = vsub(g, in.p1, in.p0);
   const V3 e2 = vsub(g, in.p2, in.p0);
   const V3 s = vsub(g, in.a, in.p0);
-  const V3 q = cross(g, in.d, e2);
-  const V3 r = cross(g, s, e1);
-  const int V = dot(g, q, e1, G.dot);
-  const int V1 = dot(g, q, s, G.dot);
-  const int V2 = dot(g, r, in.d, G.dot);
-  const int Va = dot(g, r, e2, G.dot);
+  const V3 q = cross(g, in.d, e2, G.fuse >= 2);
+  const V3 r = cross(g, s, e1, G.fuse >= 2);
+  const int V = dot(g, q, e1, G.dot, G.fuse >= 1);
+  const int V1 = dot(g, q, s, G.dot, G.fuse >= 1);
+  const int V2 = dot(g, r, in.d, G.dot, G.fuse >= 1);
+  const int Va = dot(g, r, e2, G.dot, G.fuse >= 1);
   const int one = g.constant(1.0);
   const auto [beta, gamma, t] = divide(g, G.divide, V, {V1, V2, Va}, one);
   const int sum = g.add(beta, gamma);
@@ -197,22 +210,30 @@ Graph mt_graph(const TriGenome& G) {
 
 const std::array<const char*, kTriGenes>& tri_gene_names() {
   static const std::array<const char*, kTriGenes> n = {"family", "edge_form", "origin",   "denom", "va",
-                                                       "divide", "interval",  "tie", "dot"};
+                                                       "divide", "interval",  "tie", "dot", "fuse"};
   return n;
 }
 
 std::vector<int> to_vector(const TriGenome& g) {
-  return {g.family, g.edge_form, g.origin, g.denom, g.va, g.divide, g.interval, g.tie, g.dot};
+  return {g.family, g.edge_form, g.origin, g.denom, g.va, g.divide, g.interval, g.tie, g.dot, g.fuse};
 }
 
-TriGenome tri_genome(const std::vector<int>& v) {
+std::vector<int> genes_record(const TriGenome& g) {
+  std::vector<int> v = to_vector(g);
+  if (g.fuse == 0) v.resize(kTriGenesUnfused);
+  return v;
+}
+
+TriGenome tri_genome(const std::vector<int>& v0) {
+  std::vector<int> v = v0;
+  if (v.size() == kTriGenesUnfused) v.push_back(0);  // written before the fuse gene
   if (v.size() != kTriGenes)
     throw IrError("a ray-triangle genome has " + std::to_string(kTriGenes) + " genes, got " + std::to_string(v.size()));
   for (int i = 0; i < kTriGenes; ++i)
     if (v[i] < 0 || v[i] >= kTriGeneCount[i])
       throw IrError(std::string("gene ") + tri_gene_names()[i] + " must be 0.." + std::to_string(kTriGeneCount[i] - 1) +
                     ", got " + std::to_string(v[i]));
-  return {v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8]};
+  return {v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], v[9]};
 }
 
 TriGenome canonical(const TriGenome& g) {
@@ -228,13 +249,15 @@ TriGenome canonical(const TriGenome& g) {
 std::string genome_name(const TriGenome& g0) {
   const TriGenome g = canonical(g0);
   auto n = [](char c, int v) { return std::string("-") + c + std::to_string(v); };
-  if (g.family == 1) return "mt" + n('q', g.divide) + n('i', g.interval) + n('p', g.dot);
+  const std::string u = g.fuse ? n('u', g.fuse) : "";
+  if (g.family == 1) return "mt" + n('q', g.divide) + n('i', g.interval) + n('p', g.dot) + u;
   return "sv" + n('f', g.edge_form) + n('o', g.origin) + n('d', g.denom) + n('a', g.va) + n('q', g.divide) +
-         n('i', g.interval) + n('t', g.tie) + n('p', g.dot);
+         n('i', g.interval) + n('t', g.tie) + n('p', g.dot) + u;
 }
 
 TriGenome parse_genome_name(const std::string& s) {
-  const std::string form = "'sv-f<0-3>-o<0-2>-d<0-3>-a<0-3>-q<0-1>-i<0-1>-t<0-1>-p<0-2>' or 'mt-q<0-1>-i<0-1>-p<0-2>'";
+  const std::string form =
+      "'sv-f<0-3>-o<0-2>-d<0-3>-a<0-3>-q<0-1>-i<0-1>-t<0-1>-p<0-2>[-u<1-2>]' or 'mt-q<0-1>-i<0-1>-p<0-2>[-u<1-2>]'";
   auto bad = [&] { return IrError("bad genome name '" + s + "' (accepted: " + form + ")"); };
   std::vector<std::string> parts;
   size_t i = 0;
@@ -245,7 +268,8 @@ TriGenome parse_genome_name(const std::string& s) {
   }
   const bool mt = parts[0] == "mt";
   if (!mt && parts[0] != "sv") throw bad();
-  const std::string letters = mt ? "qip" : "foda" "qitp";
+  std::string letters = mt ? "qip" : "foda" "qitp";
+  if (parts.size() == letters.size() + 2) letters += 'u';  // the fuse gene, written only when not 0
   if (parts.size() != letters.size() + 1) throw bad();
   std::map<char, int> v;
   for (size_t k = 0; k < letters.size(); ++k) {
@@ -253,8 +277,9 @@ TriGenome parse_genome_name(const std::string& s) {
     if (p.size() != 2 || p[0] != letters[k] || p[1] < '0' || p[1] > '9') throw bad();
     v[p[0]] = p[1] - '0';
   }
+  if (v.count('u') && v['u'] == 0) throw bad();  // one name per genome: no "-u0"
   try {
-    return tri_genome({mt ? 1 : 0, v['f'], v['o'], v['d'], v['a'], v['q'], v['i'], v['t'], v['p']});
+    return tri_genome({mt ? 1 : 0, v['f'], v['o'], v['d'], v['a'], v['q'], v['i'], v['t'], v['p'], v['u']});
   } catch (const IrError&) {
     throw bad();
   }

@@ -36,7 +36,7 @@ namespace {
 // The registry unit that carries out a kind of graph operation (op_counts keys).
 const std::map<std::string, std::string>& kind_units() {
   static const std::map<std::string, std::string> m = {
-      {"add", "fp_add"}, {"mul", "fp_mul"}, {"div", "fp_div"}, {"cmp", "fp_cmp"}};
+      {"add", "fp_add"}, {"mul", "fp_mul"}, {"div", "fp_div"}, {"cmp", "fp_cmp"}, {"fma", "fp_fma"}};
   return m;
 }
 
@@ -89,7 +89,7 @@ Pick pick_row(const std::vector<synth::CheckedInRow>& rows, const std::string& u
 
 CostModel CostModel::build(const std::vector<std::string>& row_paths, const synth::CellLibrary& lib,
                            const Format& fmt, double period_ps, const std::string& measure_file,
-                           const std::function<void(const std::string&)>& progress) {
+                           const std::function<void(const std::string&)>& progress, bool fma) {
   CostModel m;
   m.fmt_ = fmt;
   m.period_ps_ = period_ps;
@@ -100,7 +100,7 @@ CostModel CostModel::build(const std::vector<std::string>& row_paths, const synt
   if (!measure_file.empty() && fs::exists(measure_file)) paths.push_back(measure_file);
   std::vector<synth::CheckedInRow> rows = synth::CheckedInRows::load(paths).rows();
   for (const auto& [kind, unit] : kind_units()) {
-    (void)kind;
+    if (kind == "fma" && !fma) continue;  // only searches with fused moves use it
     const synth::UnitSpec& spec = synth::find_unit(unit);
     const std::string hash = synth::sources_hash(synth::resolve_sources(spec, synth::default_rtl_dir()));
     Pick p = pick_row(rows, unit, lib.name, fmt, period_ps, hash);
@@ -499,7 +499,7 @@ struct Evaluator {
       ++evaluations;
       log << nlohmann::json{{"key", c.key},
                             {"genome", genome_name(c.genome)},
-                            {"genes", to_vector(c.genome)},
+                            {"genes", genes_record(c.genome)},
                             {"context", context_hash},
                             {"fitness", to_json(c.fit)}}
                  .dump()
@@ -517,23 +517,30 @@ std::vector<double> objectives_of(const Fitness& f) {
 }
 
 // pagmo's problem: the genome as integers; fitness from the shared evaluator.
+// The decision vector holds the first `n` genes (kTriGenesUnfused without fused moves: the search
+// is then the one it was before the fuse gene existed); the others are 0.
 struct TriProblem {
   std::shared_ptr<Evaluator> ev;
+  int n = kTriGenes;
   pagmo::vector_double fitness(const pagmo::vector_double& x) const {
     return objectives_of(ev->run({decode(x)})[0].fit);
   }
   std::pair<pagmo::vector_double, pagmo::vector_double> get_bounds() const {
-    pagmo::vector_double lo(kTriGenes, 0.0), hi(kTriGenes);
-    for (int i = 0; i < kTriGenes; ++i) hi[i] = kTriGeneCount[i] - 1;
+    pagmo::vector_double lo(n, 0.0), hi(n);
+    for (int i = 0; i < n; ++i) hi[i] = kTriGeneCount[i] - 1;
     return {lo, hi};
   }
   pagmo::vector_double::size_type get_nobj() const { return Fitness::kObjectives; }
-  pagmo::vector_double::size_type get_nix() const { return kTriGenes; }
+  pagmo::vector_double::size_type get_nix() const { return n; }
   std::string get_name() const { return "rayunits ray-triangle formulations"; }
-  static TriGenome decode(const pagmo::vector_double& x) {
-    std::vector<int> v(kTriGenes);
-    for (int i = 0; i < kTriGenes; ++i) v[i] = static_cast<int>(std::lround(x[i]));
+  TriGenome decode(const pagmo::vector_double& x) const {
+    std::vector<int> v(kTriGenes, 0);
+    for (int i = 0; i < n; ++i) v[i] = static_cast<int>(std::lround(x[i]));
     return tri_genome(v);
+  }
+  pagmo::vector_double encode(const TriGenome& g) const {
+    const auto v = to_vector(g);
+    return pagmo::vector_double(v.begin(), v.begin() + n);
   }
 };
 
@@ -543,8 +550,9 @@ struct TriBatch {
     const auto* tp = p.extract<TriProblem>();
     if (!tp) throw IrError("TriBatch: not a TriProblem");
     std::vector<TriGenome> gs;
-    for (size_t i = 0; i < dvs.size(); i += kTriGenes)
-      gs.push_back(TriProblem::decode(pagmo::vector_double(dvs.begin() + i, dvs.begin() + i + kTriGenes)));
+    const size_t n = static_cast<size_t>(tp->n);
+    for (size_t i = 0; i < dvs.size(); i += n)
+      gs.push_back(tp->decode(pagmo::vector_double(dvs.begin() + i, dvs.begin() + i + n)));
     pagmo::vector_double f;
     for (const auto& c : tp->ev->run(gs)) {
       const auto o = objectives_of(c.fit);
@@ -565,12 +573,12 @@ void write_atomic(const fs::path& p, const std::string& text) {
   fs::rename(tmp, p);
 }
 
-// One mutation of a genome: each gene redrawn with probability 1/3 (at least one changes).
-TriGenome mutate(const TriGenome& g, util::Xoshiro256ss& rng) {
+// One mutation of a genome: each of the first n genes redrawn with probability 1/3 (at least one changes).
+TriGenome mutate(const TriGenome& g, int n, util::Xoshiro256ss& rng) {
   std::vector<int> v = to_vector(g);
   const std::string before = genome_name(g);
   for (int tries = 0; tries < 64; ++tries) {
-    for (int i = 0; i < kTriGenes; ++i)
+    for (int i = 0; i < n; ++i)
       if (util::bounded_lemire(rng, 3) == 0) v[i] = static_cast<int>(util::bounded_lemire(rng, kTriGeneCount[i]));
     if (genome_name(tri_genome(v)) != before) break;
   }
@@ -590,11 +598,14 @@ SearchResult run_search(const SearchOptions& opt, const Workload& w, const CostM
     if (opt.progress) opt.progress(s);
   };
   const std::string context_hash = util::fnv1a64_hex(context.dump());
-  const nlohmann::json settings = {{"context", context},
-                                   {"context_hash", context_hash},
-                                   {"start", genome_name(opt.start)},
-                                   {"population", opt.population},
-                                   {"seed", opt.seed}};
+  if (!opt.fused && opt.start.fuse != 0)
+    throw IrError("the start " + genome_name(opt.start) + " has fused operations: search with fused moves (--fused)");
+  nlohmann::json settings = {{"context", context},
+                             {"context_hash", context_hash},
+                             {"start", genome_name(opt.start)},
+                             {"population", opt.population},
+                             {"seed", opt.seed}};
+  if (opt.fused) settings["fused"] = true;  // absent without: the settings of searches before the gene
   // state.json: the settings, the generation reached and its population.
   const fs::path state_path = dir / "state.json";
   auto ev = std::make_shared<Evaluator>();
@@ -605,7 +616,8 @@ SearchResult run_search(const SearchOptions& opt, const Workload& w, const CostM
   ev->log_path = (dir / "evaluations.jsonl").string();
   if (fs::exists(ev->log_path)) ev->load(ev->log_path);
 
-  pagmo::problem prob{TriProblem{ev}};
+  TriProblem tp{ev, opt.fused ? kTriGenes : kTriGenesUnfused};
+  pagmo::problem prob{tp};
   pagmo::population pop{prob, 0u, static_cast<unsigned>(opt.seed)};
   int gen = 0;
   SearchResult res;
@@ -625,25 +637,19 @@ SearchResult run_search(const SearchOptions& opt, const Workload& w, const CostM
     std::vector<TriGenome> gs;
     for (const auto& v : st.at("population")) gs.push_back(tri_genome(v.get<std::vector<int>>()));
     const auto cs = ev->run(gs);  // from the cache
-    for (const auto& c : cs) {
-      const auto g = to_vector(c.genome);
-      pop.push_back(pagmo::vector_double(g.begin(), g.end()), objectives_of(c.fit));
-    }
+    for (const auto& c : cs) pop.push_back(tp.encode(c.genome), objectives_of(c.fit));
     say("resumed at generation " + std::to_string(gen) + " from " + state_path.string());
   } else {
     // Generation 0: the start formulation and mutations of it.
     util::Xoshiro256ss rng(opt.seed);
     std::vector<TriGenome> gs = {opt.start};
-    while (static_cast<int>(gs.size()) < opt.population) gs.push_back(mutate(opt.start, rng));
+    while (static_cast<int>(gs.size()) < opt.population) gs.push_back(mutate(opt.start, tp.n, rng));
     const auto cs = ev->run(gs);
-    for (size_t i = 0; i < cs.size(); ++i) {
-      const auto g = to_vector(gs[i]);
-      pop.push_back(pagmo::vector_double(g.begin(), g.end()), objectives_of(cs[i].fit));
-    }
+    for (size_t i = 0; i < cs.size(); ++i) pop.push_back(tp.encode(gs[i]), objectives_of(cs[i].fit));
   }
   auto save = [&] {
     nlohmann::json popj = nlohmann::json::array();
-    for (const auto& x : pop.get_x()) popj.push_back(to_vector(TriProblem::decode(x)));
+    for (const auto& x : pop.get_x()) popj.push_back(genes_record(tp.decode(x)));
     write_atomic(state_path, nlohmann::json{{"settings", settings}, {"generation", gen}, {"population", popj}}.dump(1));
   };
   save();
@@ -651,7 +657,7 @@ SearchResult run_search(const SearchOptions& opt, const Workload& w, const CostM
     // One generation per call, seeded by (seed, generation): a resumed run continues exactly.
     uint64_t sm = opt.seed ^ (0x9e3779b97f4a7c15ull * static_cast<uint64_t>(gen + 1));
     const unsigned gseed = static_cast<unsigned>(util::splitmix64(sm));
-    pagmo::nsga2 algo(1u, 0.9, 10., 1.0 / kTriGenes, 10., gseed);
+    pagmo::nsga2 algo(1u, 0.9, 10., 1.0 / tp.n, 10., gseed);
     algo.set_bfe(pagmo::bfe{TriBatch{}});
     pop = algo.evolve(pop);
     ++gen;

@@ -606,6 +606,7 @@ Kind search_kind() {
       {"epsilon", T::Num, "--epsilon", num_range(1e-9, 1e9), {}, "epsilon-box size of the reported front"},
       {"no_characterize", T::Bool, "--no-characterize", {}, {}, "use only existing cell rows"},
       {"no_verify", T::Bool, "--no-verify", {}, {}, "skip the cycle-by-cycle verification"},
+      {"fused", T::Bool, "--fused", {}, {}, "also move over fused multiply-adds"},
   };
   for (Key& key : k.keys)
     for (char& ch : key.option)

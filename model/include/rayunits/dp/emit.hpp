@@ -10,13 +10,15 @@
 //   * a level's kind (its segment weights in the chain) is the heaviest kind among its nodes
 //     (div > mul > add > cmp); instances of that kind get the level's cut selection
 //     (lcut(k)), the others automatic placement; every instance of level k has latency lat(k);
+//     an fma counts as a multiplier for its level's kind (the chain's kind table has no fma kind:
+//     emit.cpp says why) and always places its registers automatically;
 //   * a value used at a later level than it is ready passes a ru_pipe delay line of
 //     span(ready, use) cycles; the outputs are delayed to the last level.
 // Ports: clk_i, rst_ni, in_valid_i, one W-bit input <name>_i per graph input (W = 1+ExpW+FracW),
 // out_valid_o (in_valid_i delayed by Stages), one output <name>_o per graph output (W bits, or
 // 1 bit for a Boolean). Parameters ExpW, FracW, Stages, Subnormals, Round as every FP unit.
 // Constants must be 0 or +-2^k (the emitted encoding; an elaboration check rejects one that is
-// not a normal number of the format). Fma has no level kind yet: rejected (IrError).
+// not a normal number of the format).
 #pragma once
 
 #include <string>
@@ -41,13 +43,16 @@ std::string emit_sv(const Graph& g, const std::string& module, const std::string
 // The emitted module's maximum useful Stages as a registry expression in L and M (every cut
 // position of every level registered, minus one): a level of kind add has 6 segments, mul L+5
 // (L = csa_levels(M+1)), div M+6, cmp 3 (ru_fp_pkg add_nseg/mul_nseg/div_nseg/cmp_nseg; checked
-// against the emitted RTL's MaxUsefulStages by RegistryRtl.MaxUsefulStagesMatchRtl). E.g.
+// against the emitted RTL's MaxUsefulStages by RegistryRtl.MaxUsefulStagesMatchRtl; an fma level
+// is a mul level). E.g.
 // "2*L+M+42" for Fig. 3.6.
 std::string max_stages_expr(const Graph& g);
 
-// The RTL files an emitted module needs, in compile order (names under rtl/).
+// The RTL files an emitted module needs, in compile order (names under rtl/): those of every
+// emitted module, and of g's (ru_fp_fma.sv when g has an fma).
 std::vector<std::string> emit_sources();
-// The file list of an emitted module (emit_sources(), then MODULE.sv; one per line): MODULE.f.
-std::string emit_filelist(const std::string& module);
+std::vector<std::string> emit_sources(const Graph& g);
+// The file list of g's emitted module (emit_sources(g), then MODULE.sv; one per line): MODULE.f.
+std::string emit_filelist(const std::string& module, const Graph& g);
 
 }  // namespace ru::dp

@@ -42,16 +42,28 @@ struct TriGenome {
   int tie = 0;        // 1: Fig. 3.6's zero-volume tie-break (reject V_i = 0 on edges whose
                       //   first end is the lexicographic minimum)
   int dot = 0;        // association of every dot product: 0 (xx + yy) + zz, 1 xx + (yy + zz), 2 (xx + zz) + yy
-  // Moller-Trumbore uses divide, interval and dot; the other genes are ignored (canonical()).
+  int fuse = 0;       // fused multiply-add (ru_fp_fma, one rounding): 0 none; 1 every dot product
+                      //   as a chain of two fmas on one product (association `dot`: (xx + yy) + zz
+                      //   is fma(z, z', fma(x, x', yy))); 2 also every cross-product component
+                      //   u_y v_z - u_z v_y as fma(u_y, v_z, -(u_z v_y))
+  // Moller-Trumbore uses divide, interval, dot and fuse; the other genes are ignored (canonical()).
 };
-constexpr int kTriGenes = 9;
-constexpr std::array<int, kTriGenes> kTriGeneCount = {2, 4, 3, 4, 4, 2, 2, 2, 3};
+constexpr int kTriGenes = 10;
+constexpr std::array<int, kTriGenes> kTriGeneCount = {2, 4, 3, 4, 4, 2, 2, 2, 3, 3};
+// The genes of a search without fused moves (rayunits search tri without --fused): the first nine,
+// so that such a search is the one it was before the fuse gene existed (same random stream).
+constexpr int kTriGenesUnfused = 9;
 const std::array<const char*, kTriGenes>& tri_gene_names();
 
-std::vector<int> to_vector(const TriGenome& g);
-TriGenome tri_genome(const std::vector<int>& v);  // throws IrError for a wrong length or value
+std::vector<int> to_vector(const TriGenome& g);  // kTriGenes values
+// As written in result files (evaluations.jsonl, front.json, state.json): without the fuse gene when
+// it is 0, so a search without fused moves writes the files it wrote before the gene existed.
+std::vector<int> genes_record(const TriGenome& g);
+// throws IrError for a wrong length or value; 9 genes (a genome written before the fuse gene) mean fuse 0
+TriGenome tri_genome(const std::vector<int>& v);
 TriGenome canonical(const TriGenome& g);  // genes the family ignores set to 0
-// "sv-f0-o0-d0-a0-q0-i0-t0-p0" / "mt-q1-i0-p0" (q divide, i interval, t tie, p dot association)
+// "sv-f0-o0-d0-a0-q0-i0-t0-p0" / "mt-q1-i0-p0" (q divide, i interval, t tie, p dot association),
+// then "-u1" / "-u2" when fuse is not 0 (names without fused operations are what they were before)
 std::string genome_name(const TriGenome& g);
 TriGenome parse_genome_name(const std::string& s);  // throws IrError naming the accepted form
 TriGenome fig36_genome();  // ray_tri_robust_graph(): Fig. 3.6 without its tie-break

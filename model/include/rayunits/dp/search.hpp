@@ -50,7 +50,7 @@ namespace ru::dp {
 
 // One FP unit configuration the model chose for a kind at the target clock.
 struct UnitChoice {
-  std::string unit;  // fp_add, fp_mul, fp_div, fp_cmp
+  std::string unit;  // fp_add, fp_mul, fp_div, fp_cmp, fp_fma
   int stages = 0;
   double area_um2 = 0, period_ps = 0;
   std::string point;  // the row's "point" (its file stem), for the record
@@ -68,7 +68,7 @@ struct CostBreakdown {
 class CostModel {
  public:
   // From cell-flow rows (synthesis row schema, synth/README.md) of the library `lib`: per kind
-  // (fp_add, fp_mul, fp_div, fp_cmp) the smallest-area row of the format (rounding and
+  // (fp_add, fp_mul, fp_div, fp_cmp, and fp_fma when `fma`) the smallest-area row of the format (rounding and
   // subnormals as fmt) whose measured period (period_ps: clock minus slack, through the register
   // harness) meets period_ps and whose rtl_hash is the current RTL's. `row_paths`: files or
   // directories of *.jsonl (CheckedInRows::load). When a kind has no such row and `measure_file`
@@ -79,7 +79,7 @@ class CostModel {
   // current row of a kind: throws synth::SynthError with one line naming the kind and format.
   static CostModel build(const std::vector<std::string>& row_paths, const synth::CellLibrary& lib,
                          const num::Format& fmt, double period_ps, const std::string& measure_file = "",
-                         const std::function<void(const std::string&)>& progress = {});
+                         const std::function<void(const std::string&)>& progress = {}, bool fma = false);
   // The schedule: an FP unit node starts when its last operand is ready and its value is ready
   // (stages + 1) cycles later (its output register); selects, gates, neg/abs and constants take no
   // cycle. A value held past the cycle it is ready, for a later consumer or the output alignment,
@@ -141,6 +141,7 @@ struct SearchOptions {
   std::string out_dir;      // state.json, evaluations.jsonl, front.json, front.csv, designs/
   TriGenome start;          // the initial population: start and mutations of it
   std::string start_name;   // as given (recorded)
+  bool fused = false;       // also move over fused multiply-adds (TriGenome::fuse; the cost model needs fp_fma)
   int population = 24;      // a multiple of 4, >= 8 (NSGA-II)
   int generations = 20;
   uint64_t seed = 1;
