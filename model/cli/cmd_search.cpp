@@ -206,7 +206,7 @@ int run_search_cmd(int argc, char** argv) {
                      [&](size_t i) { ref_fit[i] = dp::evaluate_fitness(dp::tri_graph(refs[i].g), w, cm); });
 
   // The reported front: the epsilon-box front of the search's front.
-  const std::vector<dp::Candidate> reported = dp::epsilon_front(res.front, epsilon);
+  const std::vector<dp::Candidate> reported = dp::epsilon_front(res.front, epsilon, fused);
   // Every reported design as a run-time registry unit (RU_DP_DESIGNS = DIR/designs, RTL in DIR/rtl:
   // the project's RTL and the emitted modules), verified cycle by cycle by `rayunits rtl` (its
   // build cache) against its graph at the search's format and the maximum Stages.
@@ -273,7 +273,8 @@ int run_search_cmd(int argc, char** argv) {
                               {"population", population},
                               {"generations", so.generations},
                               {"seed", seed},
-                              {"objectives", {"area_um2 (cost model estimate)", "mean_rel", "max_rel", "misses", "extras"}},
+                              {"objectives", fused ? nlohmann::json{"area_um2 (cost model estimate)", "mean_rel", "max_rel", "misses", "extras", "period_ps (cost model)"}
+                                     : nlohmann::json{"area_um2 (cost model estimate)", "mean_rel", "max_rel", "misses", "extras"}},
                               {"epsilon", epsilon},
                               {"front", front},
                               {"pareto_all", all},

@@ -152,10 +152,12 @@ std::string emit_sv(const Graph& g, const std::string& module, const std::string
       const double v = n.value;
       if (v == 0) {
         b << "  assign " << s << " = '0;\n";
+      } else if (std::isinf(v)) {
+        b << "  assign " << s << " = {1'b" << (v < 0 ? 1 : 0) << ", {ExpW{1'b1}}, FracW'(0)};\n";
       } else {
         int e = 0;
         const double m = std::frexp(std::fabs(v), &e);  // |v| = m 2^e, m in [0.5, 1)
-        if (m != 0.5) throw IrError("emit: constant " + std::to_string(v) + " is not 0 or +-2^k");
+        if (m != 0.5) throw IrError("emit: constant " + std::to_string(v) + " is not 0, +-inf or +-2^k");
         const int k = e - 1;
         b << "  assign " << s << " = {1'b" << (v < 0 ? 1 : 0) << ", ExpW'((1 << (ExpW - 1)) - 1 + (" << k
           << ")), FracW'(0)};\n"
@@ -190,7 +192,7 @@ std::string emit_sv(const Graph& g, const std::string& module, const std::string
       if (bool_out)  // a comparison's result is bit 0 of y_o
         b << "  /* verilator lint_off UNUSEDSIGNAL */ logic [W-1:0] " << s << "_y; /* verilator lint_on UNUSEDSIGNAL */\n";
       b << "  " << mod << " #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(" << lev
-        << ")), .Subnormals(Subnormals), .Round(Round)" << (lcut ? ", .CutSel(lcut(" + std::to_string(lev) + "))" : "")
+        << ")), .Subnormals(Subnormals), .Round(" << (n.round >= 0 ? std::to_string(n.round) : std::string("Round")) << ")" << (lcut ? ", .CutSel(lcut(" + std::to_string(lev) + "))" : "")
         << ") u_" << s << " (\n    .clk_i, .rst_ni, .in_valid_i(1'b1), .a_i(" << a << "), .b_i(" << bb << ")"
         << (n.op == Op::Fma ? ", .c_i(" + C + ")" : "")
         << (op.empty() ? "" : ", .op_i(" + op + ")") << ",\n    .out_valid_o(unused_valid[" << nunits
@@ -207,6 +209,13 @@ std::string emit_sv(const Graph& g, const std::string& module, const std::string
         case Op::And: b << "  assign " << s << " = " << v(n.a) << " & " << v(n.b) << ";\n"; break;
         case Op::Or: b << "  assign " << s << " = " << v(n.a) << " | " << v(n.b) << ";\n"; break;
         case Op::Not: b << "  assign " << s << " = ~" << v(n.a) << ";\n"; break;
+        case Op::SignBit: b << "  assign " << s << " = " << v(n.a) << "[W-1];\n"; break;
+        case Op::IsNan:
+          b << "  assign " << s << " = (&" << v(n.a) << "[W-2:FracW]) & (|" << v(n.a) << "[FracW-1:0]);\n";
+          break;
+        case Op::IsInf:
+          b << "  assign " << s << " = (&" << v(n.a) << "[W-2:FracW]) & ~(|" << v(n.a) << "[FracW-1:0]);\n";
+          break;
         default: throw IrError(std::string("emit: unexpected ") + op_name(n.op));
       }
     }

@@ -352,6 +352,126 @@ const Design& find_design(const std::string& name) {
   throw IrError("unknown design '" + name + "' (designs: " + known + ")");
 }
 
+// ---- ray-box formulations ---------------------------------------------------------------------
+
+std::string box_genome_name(const BoxGenome& g) {
+  return "box-r" + std::to_string(g.round) + "-f" + std::to_string(g.form) + "-m" + std::to_string(g.tree);
+}
+
+BoxGenome parse_box_genome_name(const std::string& s) {
+  for (const BoxGenome& g : all_box_genomes())
+    if (box_genome_name(g) == s) return g;
+  throw IrError("bad ray-box genome name '" + s + "' (accepted: 'box-r<0-3>-f<0-1>-m<0-1>')");
+}
+
+std::vector<BoxGenome> all_box_genomes() {
+  std::vector<BoxGenome> v;
+  for (int r = 0; r < kBoxGeneCount[0]; ++r)
+    for (int f = 0; f < kBoxGeneCount[1]; ++f)
+      for (int m = 0; m < kBoxGeneCount[2]; ++m) v.push_back(BoxGenome{r, f, m});
+  return v;
+}
+
+BoxGenome box_plain_genome() { return BoxGenome{}; }
+BoxGenome box_conservative_genome() { return BoxGenome{1, 0, 0}; }
+
+Graph box_graph(const BoxGenome& G) {
+  if (G.round < 0 || G.round >= kBoxGeneCount[0] || G.form < 0 || G.form >= kBoxGeneCount[1] || G.tree < 0 ||
+      G.tree >= kBoxGeneCount[2])
+    throw IrError("box_graph: gene out of range in " + box_genome_name(G));
+  using num::Round;
+  Graph g;
+  auto vec = [&](const char* n) {
+    const std::string s = n;
+    const int x = g.input(s + "x");
+    const int y = g.input(s + "y");
+    return V3{x, y, g.input(s + "z")};
+  };
+  const V3 o = vec("o"), inv = vec("i");
+  const int tmin = g.input("tmin"), tmax = g.input("tmax");
+  const V3 lo = vec("lo"), hi = vec("hi");
+  const bool dir_diff = G.round == 1 || G.round == 3, dir_prod = G.round == 1 || G.round == 2;
+  int tn[3], tf[3];
+  for (int k = 0; k < 3; ++k) {
+    auto c = [k](const V3& v) { return k == 0 ? v.x : k == 1 ? v.y : v.z; };
+    const int neg = g.signbit(c(inv));
+    // (one builder call per statement: the node order, and so the graph text, is fixed)
+    const int near = g.select(neg, c(hi), c(lo));
+    const int far = g.select(neg, c(lo), c(hi));
+    if (G.form == 0) {
+      int dn, df;
+      if (dir_diff) {
+        // RDN(near - o) for inv >= 0; for inv < 0 RUP(near - o) = -RDN(o - near): one subtracter,
+        // operands swapped by the sign (as ru_ray_box does); the far side the same with RUP
+        const int xn = g.select(neg, c(o), c(lo));
+        const int yn = g.select(neg, c(hi), c(o));
+        const int rn = g.rounded(g.sub(xn, yn), Round::RDN);
+        const int nn = g.neg(rn);
+        dn = g.select(neg, nn, rn);
+        const int xf = g.select(neg, c(o), c(hi));
+        const int yf = g.select(neg, c(lo), c(o));
+        const int rf = g.rounded(g.sub(xf, yf), Round::RUP);
+        const int nf = g.neg(rf);
+        df = g.select(neg, nf, rf);
+      } else {
+        dn = g.sub(near, c(o));
+        df = g.sub(far, c(o));
+      }
+      tn[k] = g.mul(dn, c(inv));
+      tf[k] = g.mul(df, c(inv));
+    } else {
+      int pu, pd;
+      if (dir_diff) {
+        pu = g.rounded(g.mul(c(o), c(inv)), Round::RUP);  // >= o inv: tn below the exact value
+        pd = g.rounded(g.mul(c(o), c(inv)), Round::RDN);
+      } else {
+        pu = pd = g.mul(c(o), c(inv));
+      }
+      const int mu = g.neg(pu);
+      tn[k] = g.fma(near, c(inv), mu);
+      const int md = pd == pu ? mu : g.neg(pd);
+      tf[k] = g.fma(far, c(inv), md);
+    }
+    if (dir_prod) {
+      g.rounded(tn[k], Round::RDN);
+      g.rounded(tf[k], Round::RUP);
+    }
+  }
+  int te, tx;
+  if (G.tree == 0) {
+    const int a = g.max(tn[0], tn[1]);
+    const int b = g.max(tn[2], tmin);
+    te = g.max(a, b);
+    const int c = g.min(tf[0], tf[1]);
+    const int d = g.min(tf[2], tmax);
+    tx = g.min(c, d);
+  } else {
+    te = g.max(g.max(g.max(tmin, tn[0]), tn[1]), tn[2]);
+    tx = g.min(g.min(g.min(tmax, tf[0]), tf[1]), tf[2]);
+  }
+  int any_nan = -1;
+  for (int n = 0; n < 14; ++n) {
+    const int x = g.isnan(n);  // inputs are nodes 0..13
+    any_nan = any_nan < 0 ? x : g.lor(any_nan, x);
+  }
+  const int te_inf = g.isinf(te);
+  const int te_pinf = g.land(te_inf, g.lnot(g.signbit(te)));
+  const int tx_inf = g.isinf(tx);
+  const int tx_ninf = g.land(tx_inf, g.signbit(tx));
+  const int order = g.le(te, tx);
+  const int no_inf = g.lnot(g.lor(te_pinf, tx_ninf));
+  const int hit = g.land(g.land(order, no_inf), g.lnot(any_nan));
+  g.output("hit", hit);
+  g.output("t_enter", te);
+  g.output("t_exit", tx);
+  return g;
+}
+
+std::vector<double> box_inputs(const units::BoxRecord& r) {
+  return {r.o.x,  r.o.y,  r.o.z,  r.inv.x, r.inv.y, r.inv.z, r.t_min,
+          r.t_max, r.lo.x, r.lo.y, r.lo.z,  r.hi.x,  r.hi.y,  r.hi.z};
+}
+
 std::vector<double> tri_inputs(const units::TriRecord& r) {
   return {r.a.x,  r.a.y,  r.a.z,  r.d.x,  r.d.y,  r.d.z,  r.p0.x, r.p0.y, r.p0.z,
           r.p1.x, r.p1.y, r.p1.z, r.p2.x, r.p2.y, r.p2.z, r.t_min, r.t_max};

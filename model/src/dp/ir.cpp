@@ -27,7 +27,8 @@ constexpr OpInfo kOps[] = {
     {Op::Le, "le", 2, true, false, "fp_cmp"},    {Op::Ge, "ge", 2, true, false, "fp_cmp"},
     {Op::Eq, "eq", 2, true, false, "fp_cmp"},    {Op::And, "and", 2, true, true, ""},
     {Op::Or, "or", 2, true, true, ""},           {Op::Not, "not", 1, true, true, ""},
-    {Op::BConst, "bool", 0, true, false, ""},
+    {Op::BConst, "bool", 0, true, false, ""},    {Op::SignBit, "sgn", 1, true, false, ""},
+    {Op::IsNan, "nan", 1, true, false, ""},      {Op::IsInf, "inf", 1, true, false, ""},
 };
 const OpInfo& info(Op o) {
   for (const auto& i : kOps)
@@ -40,6 +41,15 @@ const char* op_name(Op o) { return info(o).name; }
 bool op_is_bool(Op o) { return info(o).is_bool; }
 int op_arity(Op o) { return info(o).arity; }
 const char* op_unit(Op o) { return info(o).unit; }
+bool op_has_round(Op o) { return o == Op::Add || o == Op::Sub || o == Op::Mul || o == Op::Div || o == Op::Fma; }
+
+int Graph::rounded(int n, num::Round r) {
+  if (n < 0 || n >= static_cast<int>(nodes_.size())) throw IrError("rounded: no node " + std::to_string(n));
+  if (!op_has_round(nodes_[n].op))
+    throw IrError(std::string("rounded: ") + op_name(nodes_[n].op) + " has no rounding (add sub mul div fma do)");
+  nodes_[n].round = static_cast<int>(r);
+  return n;
+}
 
 void Graph::check_operand(int n, bool want_bool, const char* what) const {
   if (n < 0 || n >= static_cast<int>(nodes_.size()))
@@ -84,7 +94,7 @@ int Graph::input(const std::string& name) {
 }
 
 int Graph::constant(double v) {
-  if (!std::isfinite(v)) throw IrError("const: value must be finite");
+  if (std::isnan(v)) throw IrError("const: value must be a number or +-inf");
   Node n;
   n.op = Op::Const;
   n.value = v;
@@ -130,6 +140,7 @@ std::map<std::string, int> Graph::op_counts() const {
       case Op::Lt: case Op::Gt: case Op::Le: case Op::Ge: case Op::Eq: case Op::Min: case Op::Max: ++c["cmp"]; break;
       case Op::Select: ++c["select"]; break;
       case Op::And: case Op::Or: case Op::Not: ++c["gate"]; break;
+      case Op::IsNan: case Op::IsInf: ++c["bittest"]; break;
       default: break;
     }
   }
@@ -170,6 +181,7 @@ std::string Graph::print() const {
         s << op_name(n.op);
         for (int x : {n.a, n.b, n.c})
           if (x >= 0) s << " " << x;
+        if (n.round >= 0) s << " " << num::round_name(static_cast<num::Round>(n.round));
     }
     s << "   # " << i << "\n";
   }
@@ -232,10 +244,17 @@ Graph Graph::parse(const std::string& text) {
           if (word == i.name && i.arity > 0) op = &i;
         if (!op)
           fail("unknown operation '" + word +
-               "' (in const true false add sub mul div fma neg abs min max sel lt gt le ge eq and or not out)");
+               "' (in const true false add sub mul div fma neg abs min max sel lt gt le ge eq and or not sgn nan inf "
+               "out)");
         int args[3] = {-1, -1, -1};
         for (int k = 0; k < op->arity; ++k) args[k] = number("operand");
-        g.node(op->op, args[0], args[1], args[2]);
+        const int id = g.node(op->op, args[0], args[1], args[2]);
+        std::string mode;
+        if (op_has_round(op->op) && (ls >> mode)) {
+          if (mode != "rne" && mode != "rtz" && mode != "rdn" && mode != "rup")
+            fail(word + ": '" + mode + "' is not a rounding mode (rne rtz rdn rup)");
+          g.rounded(id, num::parse_round(mode));
+        }
       }
       std::string extra;
       if (ls >> extra) fail("unexpected '" + extra + "'");
@@ -276,7 +295,10 @@ ExactValues evaluate_exact(const Graph& g, const std::vector<double>& in) {
         r.defined[i] = true;
         break;
       }
-      case Op::Const: r.q[i] = mpq_class(n.value); break;
+      case Op::Const:
+        if (!std::isfinite(n.value)) throw IrError("evaluate_exact: the constant " + std::to_string(n.value) + " is not finite");
+        r.q[i] = mpq_class(n.value);
+        break;
       case Op::BConst: r.b[i] = n.value != 0; break;
       case Op::Add: r.q[i] = *A + *B; break;
       case Op::Sub: r.q[i] = *A - *B; break;
@@ -303,6 +325,8 @@ ExactValues evaluate_exact(const Graph& g, const std::vector<double>& in) {
       case Op::And: r.b[i] = r.b[n.a] && r.b[n.b]; break;
       case Op::Or: r.b[i] = r.b[n.a] || r.b[n.b]; break;
       case Op::Not: r.b[i] = !r.b[n.a]; break;
+      case Op::SignBit: r.b[i] = sgn(*A) < 0; break;
+      case Op::IsNan: case Op::IsInf: r.b[i] = false; break;
     }
   }
   return r;

@@ -189,7 +189,8 @@ CostBreakdown CostModel::cost(const Graph& g) const {
     } else {
       ready[i] = s;
       if (n.op == Op::Select) c.mux_um2 += W * mux_um2;
-      else if (op_is_bool(n.op) && n.op != Op::BConst) c.gate_um2 += gate_um2;
+      else if (n.op == Op::IsNan || n.op == Op::IsInf) c.gate_um2 += (W - 2) * gate_um2;  // reduction trees
+      else if (op_is_bool(n.op) && n.op != Op::BConst && n.op != Op::SignBit) c.gate_um2 += gate_um2;
     }
     for (const int o : {n.a, n.b, n.c})
       if (o >= 0) hold[o] = std::max(hold[o], s - ready[o]);
@@ -253,8 +254,10 @@ Workload make_workload(const std::vector<units::TriRecord>& recs, const Format& 
   return w;
 }
 
-std::array<double, Fitness::kObjectives> Fitness::objectives() const {
-  return {cost.area_um2, mean_rel, max_rel, static_cast<double>(misses()), static_cast<double>(extras())};
+std::vector<double> Fitness::objectives(bool with_period) const {
+  std::vector<double> o = {cost.area_um2, mean_rel, max_rel, static_cast<double>(misses()), static_cast<double>(extras())};
+  if (with_period) o.push_back(cost.period_ps);
+  return o;
 }
 
 nlohmann::json to_json(const Fitness& f) {
@@ -394,26 +397,26 @@ bool area_then_name(const Candidate& a, const Candidate& b) {
 
 }  // namespace
 
-std::vector<Candidate> pareto_front(const std::vector<Candidate>& all) {
+std::vector<Candidate> pareto_front(const std::vector<Candidate>& all, bool with_period) {
   std::vector<Candidate> u;
   std::set<std::string> seen;
   for (const auto& c : all)
     if (seen.insert(c.key).second) u.push_back(c);
-  std::vector<std::array<double, Fitness::kObjectives>> obj;
-  for (const auto& c : u) obj.push_back(c.fit.objectives());
+  std::vector<std::vector<double>> obj;
+  for (const auto& c : u) obj.push_back(c.fit.objectives(with_period));
   std::vector<Candidate> front;
   for (size_t i : non_dominated(obj)) front.push_back(u[i]);
   std::sort(front.begin(), front.end(), area_then_name);
   return front;
 }
 
-std::vector<Candidate> epsilon_front(const std::vector<Candidate>& front, double eps) {
+std::vector<Candidate> epsilon_front(const std::vector<Candidate>& front, double eps, bool with_period) {
   if (!(eps > 0)) throw IrError("epsilon must be > 0");
-  using Box = std::array<long, Fitness::kObjectives>;
+  using Box = std::vector<long>;
   auto box = [&](const Candidate& c) {
-    const auto o = c.fit.objectives();
-    Box b{};
-    for (int k = 0; k < Fitness::kObjectives; ++k) {
+    const auto o = c.fit.objectives(with_period);
+    Box b(o.size());
+    for (size_t k = 0; k < o.size(); ++k) {
       const double v = k >= 3 ? 1.0 + o[k] : o[k];  // counts
       b[k] = v > 0 ? static_cast<long>(std::floor(std::log(v) / std::log1p(eps))) : std::numeric_limits<long>::min();
     }
@@ -511,10 +514,7 @@ struct Evaluator {
   }
 };
 
-std::vector<double> objectives_of(const Fitness& f) {
-  const auto o = f.objectives();
-  return {o.begin(), o.end()};
-}
+std::vector<double> objectives_of(const Fitness& f, bool with_period) { return f.objectives(with_period); }
 
 // pagmo's problem: the genome as integers; fitness from the shared evaluator.
 // The decision vector holds the first `n` genes (kTriGenesUnfused without fused moves: the search
@@ -522,15 +522,16 @@ std::vector<double> objectives_of(const Fitness& f) {
 struct TriProblem {
   std::shared_ptr<Evaluator> ev;
   int n = kTriGenes;
+  bool with_period = false;  // the clock period as a sixth objective (fused moves)
   pagmo::vector_double fitness(const pagmo::vector_double& x) const {
-    return objectives_of(ev->run({decode(x)})[0].fit);
+    return objectives_of(ev->run({decode(x)})[0].fit, with_period);
   }
   std::pair<pagmo::vector_double, pagmo::vector_double> get_bounds() const {
     pagmo::vector_double lo(n, 0.0), hi(n);
     for (int i = 0; i < n; ++i) hi[i] = kTriGeneCount[i] - 1;
     return {lo, hi};
   }
-  pagmo::vector_double::size_type get_nobj() const { return Fitness::kObjectives; }
+  pagmo::vector_double::size_type get_nobj() const { return Fitness::kObjectives + (with_period ? 1 : 0); }
   pagmo::vector_double::size_type get_nix() const { return n; }
   std::string get_name() const { return "rayunits ray-triangle formulations"; }
   TriGenome decode(const pagmo::vector_double& x) const {
@@ -555,7 +556,7 @@ struct TriBatch {
       gs.push_back(tp->decode(pagmo::vector_double(dvs.begin() + i, dvs.begin() + i + n)));
     pagmo::vector_double f;
     for (const auto& c : tp->ev->run(gs)) {
-      const auto o = objectives_of(c.fit);
+      const auto o = objectives_of(c.fit, tp->with_period);
       f.insert(f.end(), o.begin(), o.end());
     }
     return f;
@@ -616,7 +617,7 @@ SearchResult run_search(const SearchOptions& opt, const Workload& w, const CostM
   ev->log_path = (dir / "evaluations.jsonl").string();
   if (fs::exists(ev->log_path)) ev->load(ev->log_path);
 
-  TriProblem tp{ev, opt.fused ? kTriGenes : kTriGenesUnfused};
+  TriProblem tp{ev, opt.fused ? kTriGenes : kTriGenesUnfused, opt.fused};
   pagmo::problem prob{tp};
   pagmo::population pop{prob, 0u, static_cast<unsigned>(opt.seed)};
   int gen = 0;
@@ -637,7 +638,7 @@ SearchResult run_search(const SearchOptions& opt, const Workload& w, const CostM
     std::vector<TriGenome> gs;
     for (const auto& v : st.at("population")) gs.push_back(tri_genome(v.get<std::vector<int>>()));
     const auto cs = ev->run(gs);  // from the cache
-    for (const auto& c : cs) pop.push_back(tp.encode(c.genome), objectives_of(c.fit));
+    for (const auto& c : cs) pop.push_back(tp.encode(c.genome), objectives_of(c.fit, tp.with_period));
     say("resumed at generation " + std::to_string(gen) + " from " + state_path.string());
   } else {
     // Generation 0: the start formulation and mutations of it.
@@ -645,7 +646,7 @@ SearchResult run_search(const SearchOptions& opt, const Workload& w, const CostM
     std::vector<TriGenome> gs = {opt.start};
     while (static_cast<int>(gs.size()) < opt.population) gs.push_back(mutate(opt.start, tp.n, rng));
     const auto cs = ev->run(gs);
-    for (size_t i = 0; i < cs.size(); ++i) pop.push_back(tp.encode(gs[i]), objectives_of(cs[i].fit));
+    for (size_t i = 0; i < cs.size(); ++i) pop.push_back(tp.encode(gs[i]), objectives_of(cs[i].fit, tp.with_period));
   }
   auto save = [&] {
     nlohmann::json popj = nlohmann::json::array();
@@ -665,14 +666,14 @@ SearchResult run_search(const SearchOptions& opt, const Workload& w, const CostM
     save();
     std::vector<Candidate> all;
     for (const auto& k : ev->order) all.push_back(ev->cache.at(k));
-    const auto front = pareto_front(all);
+    const auto front = pareto_front(all, opt.fused);
     say("generation " + std::to_string(gen) + "/" + std::to_string(opt.generations) + ": " +
         std::to_string(ev->cache.size()) + " designs evaluated, front " + std::to_string(front.size()));
   }
   // The front of every design this search evaluated (not only the last population).
   std::vector<Candidate> all;
   for (const auto& k : ev->order) all.push_back(ev->cache.at(k));
-  res.front = pareto_front(all);
+  res.front = pareto_front(all, opt.fused);
   res.evaluations = ev->evaluations;
   res.cache_hits = ev->hits;
   return res;

@@ -17,8 +17,9 @@
 // Ports: clk_i, rst_ni, in_valid_i, one W-bit input <name>_i per graph input (W = 1+ExpW+FracW),
 // out_valid_o (in_valid_i delayed by Stages), one output <name>_o per graph output (W bits, or
 // 1 bit for a Boolean). Parameters ExpW, FracW, Stages, Subnormals, Round as every FP unit.
-// Constants must be 0 or +-2^k (the emitted encoding; an elaboration check rejects one that is
-// not a normal number of the format).
+// Constants must be 0, +-inf or +-2^k (the emitted encoding; an elaboration check rejects a
+// power of two that is not a normal number of the format). A node with its own rounding mode
+// (Node::round) passes it as the instance's Round; sgn/nan/inf are bit tests of the value.
 #pragma once
 
 #include <string>

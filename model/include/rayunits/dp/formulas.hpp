@@ -97,4 +97,36 @@ const Design& find_design(const std::string& name);
 // The 17 input values of a ray-triangle record, in the graphs' input order.
 std::vector<double> tri_inputs(const units::TriRecord& r);
 
+// ---- ray-box formulations (issue 18 §2: "the same for the ray-box unit") ---------------------
+// The slab test of units/ray_box.hpp. Inputs (14, in the order of ru_ray_box's ports and the
+// registry's ray-box stimulus): ox oy oz ix iy iz tmin tmax lox loy loz hix hiy hiz (ix.. the
+// reciprocal direction). Outputs: hit, t_enter, t_exit. Per axis the sign bit of inv picks the near
+// and far planes (selects), tn / tf are the slab bounds, t_enter / t_exit their max / min with
+// t_min / t_max, hit = t_enter <= t_exit, t_enter != +INF, t_exit != -INF and no NaN input.
+// The moves (gene letter, values):
+struct BoxGenome {
+  int round = 0;  // r, conservative rounding placement: 0 none (the format's rounding); 1 the
+                  //   difference and the product directed (Kensler's conservative unit, BoxMode::
+                  //   Conservative: tn <= exact, tf >= exact); 2 the product only; 3 the difference only
+  int form = 0;   // f: 0 (plane - o) * inv (ru_ray_box); 1 fma(plane, inv, -(o * inv)) with o * inv
+                  //   once per axis (rounded up for tn and down for tf where the difference is directed:
+                  //   two products)
+  int tree = 0;   // m: 0 the balanced min/max tree of ru_ray_box, max(max(tn_x, tn_y), max(tn_z,
+                  //   t_min)); 1 the model's chain max(max(max(t_min, tn_x), tn_y), tn_z) (a compare
+                  //   level longer; minNum/maxNum are associative, so the same bits)
+};
+constexpr int kBoxGenes = 3;
+constexpr std::array<int, kBoxGenes> kBoxGeneCount = {4, 2, 2};
+std::string box_genome_name(const BoxGenome& g);        // "box-r1-f0-m0"
+BoxGenome parse_box_genome_name(const std::string& s);  // throws IrError naming the accepted form
+std::vector<BoxGenome> all_box_genomes();               // the 16 designs, in name order
+Graph box_graph(const BoxGenome& g);
+// The hand-written unit (units::ray_box, ru_ray_box): plain box-r0-f0-m0, OptConservative 1
+// box-r1-f0-m0 (bit for bit in formats with subnormals; the FTZ bound replacement of the
+// conservative unit is not in the graph).
+BoxGenome box_plain_genome();
+BoxGenome box_conservative_genome();
+// The 14 input values of a ray-box record, in the graphs' input order.
+std::vector<double> box_inputs(const units::BoxRecord& r);
+
 }  // namespace ru::dp

@@ -13,14 +13,19 @@
 //   * a netlist of FP units, for an RTL emitter and for an operation-count area estimate.
 //
 // Node kinds: FP-valued (Add, Sub, Mul, Div, Fma, Neg, Abs, Min, Max, Select), Boolean-valued
-// (Lt, Gt, Le, Ge, Eq from FP operands; And, Or, Not, BConst). Inputs are FP values; an FP
-// constant is a double rounded into the format once (Const). Outputs name a node of either kind.
+// (Lt, Gt, Le, Ge, Eq from FP operands; And, Or, Not, BConst; the bit tests SignBit, IsNan,
+// IsInf of an FP value: wiring and gates, no FP unit). Inputs are FP values; an FP constant is a
+// double rounded into the format once (Const; +-INF allowed). Outputs name a node of either kind.
+// An add, sub, mul, div or fma may carry its own rounding mode (Node::round; the text form's
+// trailing rne/rtz/rdn/rup): the directed roundings of a conservative unit. Without one it
+// rounds as the format does.
 //
 // Text form (print / parse, one node per line, '#' comments):
 //   in NAME            const VALUE          add A B     sub A B     mul A B     div A B
 //   fma A B C          neg A                abs A       min A B     max A B     sel P A B
 //   lt A B   gt A B    le A B   ge A B      eq A B      and P Q     or P Q      not P
-//   true | false       out NAME N
+//   true | false       out NAME N            sgn A    nan A    inf A
+//   add/sub/mul/div/fma lines may end in a rounding mode: rne rtz rdn rup
 // where A, B, ... are node numbers (0-based, earlier lines' nodes; `out` lines create none).
 #pragma once
 
@@ -38,7 +43,7 @@ namespace ru::dp {
 
 enum class Op : uint8_t {
   Input, Const, Add, Sub, Mul, Div, Fma, Neg, Abs, Min, Max, Select,  // FP-valued
-  Lt, Gt, Le, Ge, Eq, And, Or, Not, BConst,                           // Boolean-valued
+  Lt, Gt, Le, Ge, Eq, And, Or, Not, BConst, SignBit, IsNan, IsInf,    // Boolean-valued
 };
 const char* op_name(Op o);
 bool op_is_bool(Op o);  // the node's value is a Boolean
@@ -52,7 +57,9 @@ struct Node {
   int a = -1, b = -1, c = -1;  // operands (node numbers), -1 unused; Select: a ? b : c
   double value = 0;            // Const: the value; BConst: 0 or 1
   std::string name;            // Input: its name
+  int round = -1;              // add/sub/mul/div/fma: a num::Round of its own, -1 the format's
 };
+bool op_has_round(Op o);  // add, sub, mul, div, fma
 
 class IrError : public std::runtime_error {
  public:
@@ -83,6 +90,11 @@ class Graph {
   int land(int p, int q) { return node(Op::And, p, q); }
   int lor(int p, int q) { return node(Op::Or, p, q); }
   int lnot(int p) { return node(Op::Not, p); }
+  int signbit(int a) { return node(Op::SignBit, a); }  // the sign bit (also of -0 and NaN)
+  int isnan(int a) { return node(Op::IsNan, a); }
+  int isinf(int a) { return node(Op::IsInf, a); }
+  // Node n (an add, sub, mul, div or fma) rounds with r, not the format's mode; returns n.
+  int rounded(int n, num::Round r);
   int node(Op op, int a = -1, int b = -1, int c = -1);
   void output(const std::string& name, int n);
 
@@ -118,6 +130,27 @@ struct Value {
 };
 
 namespace detail {
+// One operation of a node with its own rounding mode, by the format model (T's format with mode r:
+// e8m23 / e11m52 for float / double, the thread's format for Soft).
+template <class T>
+T rounded_op(Op op, T a, T b, T c, num::Round r) {
+  using namespace ru::num;
+  Format f = fp_format<T>();
+  f.round = r;
+  Result res;
+  switch (op) {
+    case Op::Add: res = num::add(f, fp_bits(a), fp_bits(b)); break;
+    case Op::Sub: res = num::sub(f, fp_bits(a), fp_bits(b)); break;
+    case Op::Mul: res = num::mul(f, fp_bits(a), fp_bits(b)); break;
+    case Op::Div: res = num::div(f, fp_bits(a), fp_bits(b)); break;
+    default: res = num::fma(f, fp_bits(a), fp_bits(b), fp_bits(c)); break;
+  }
+  if constexpr (std::is_same_v<T, Soft>) {
+    return Soft::wrap(res);
+  } else {
+    return fp_from_bits<T>(res.bits);
+  }
+}
 template <class T>
 T fma_of(T a, T b, T c);
 template <>
@@ -146,6 +179,10 @@ std::vector<Value<T>> evaluate(const Graph& g, const std::vector<T>& in) {
     Value<T>& r = v[i];
     auto A = [&] { return v[n.a].v; };
     auto B = [&] { return v[n.b].v; };
+    if (n.round >= 0) {
+      r.v = detail::rounded_op<T>(n.op, A(), B(), n.c >= 0 ? v[n.c].v : T{}, static_cast<Round>(n.round));
+      continue;
+    }
     switch (n.op) {
       case Op::Input: r.v = in[next_in++]; break;
       case Op::Const: r.v = fp_cast<T>(n.value); break;
@@ -168,13 +205,17 @@ std::vector<Value<T>> evaluate(const Graph& g, const std::vector<T>& in) {
       case Op::And: r.b = v[n.a].b && v[n.b].b; break;
       case Op::Or: r.b = v[n.a].b || v[n.b].b; break;
       case Op::Not: r.b = !v[n.a].b; break;
+      case Op::SignBit: r.b = fp_signbit(A()); break;
+      case Op::IsNan: r.b = fp_isnan(A()); break;
+      case Op::IsInf: r.b = fp_is_pos_inf(A()) || fp_is_neg_inf(A()); break;
     }
   }
   return v;
 }
 
 // The graph in exact rationals: every FP node's exact value (no rounding), comparisons exact.
-// Inputs must be finite; Min/Max/Select/Abs/Neg exact too. A division by an exact zero (or any
+// Inputs must be finite; Min/Max/Select/Abs/Neg exact too; rounding modes are ignored; SignBit is
+// "< 0" (an exact zero has none), IsNan and IsInf are false. A division by an exact zero (or any
 // node depending on one) is undefined: defined[i] false, and comparisons on it are false.
 struct ExactValues {
   std::vector<mpq_class> q;

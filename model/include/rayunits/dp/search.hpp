@@ -127,7 +127,10 @@ struct Fitness {
   uint64_t misses() const { return leaks + false_misses; }
   uint64_t extras() const { return double_hits + false_hits; }
   static constexpr int kObjectives = 5;
-  std::array<double, kObjectives> objectives() const;  // area, mean_rel, max_rel, misses, extras
+  // area, mean_rel, max_rel, misses, extras, and with_period the design's clock period (the
+  // slowest unit's): a sixth objective where designs differ in it (searches with fused moves: an
+  // fp_fma that cannot meet the clock slows the designs that use it)
+  std::vector<double> objectives(bool with_period = false) const;
 };
 nlohmann::json to_json(const Fitness& f);
 Fitness fitness_from_json(const nlohmann::json& j);
@@ -167,11 +170,11 @@ SearchResult run_search(const SearchOptions& opt, const Workload& w, const CostM
                         const nlohmann::json& context);
 
 // Non-dominated candidates of a set (minimization of objectives()); duplicates by key kept once.
-std::vector<Candidate> pareto_front(const std::vector<Candidate>& all);
+std::vector<Candidate> pareto_front(const std::vector<Candidate>& all, bool with_period = false);
 // The epsilon-box front (Laumanns et al. 2002) of a front: every objective on a log scale in boxes
 // of ratio 1 + eps (counts as 1 + count), the non-dominated boxes, one design per box (the
 // smallest area, then the name): the designs a search reports and verifies. Differences below
 // eps (a few leaks among thousands of rays, 1 % of area) do not make another reported design.
-std::vector<Candidate> epsilon_front(const std::vector<Candidate>& front, double eps);
+std::vector<Candidate> epsilon_front(const std::vector<Candidate>& front, double eps, bool with_period = false);
 
 }  // namespace ru::dp
