@@ -495,6 +495,53 @@ TEST(SearchCli, WritesTheFrontAndRefusesBadInputInOneLine) {
   EXPECT_FALSE(fs::exists(t.p / "few"));
 }
 
+// rayunits search box: all 16 ray-box designs evaluated, the front written with the hand designs as
+// references; bad input is one line and leaves nothing behind.
+TEST(SearchCli, BoxWritesTheFrontAndRefusesBadInputInOneLine) {
+  Rows rows;
+  rows.realistic();
+  rows.add("fp_fma", 1, 3950, 150000);
+  ru::test::TempDir t("ru_search_box");
+  auto box = [&](const fs::path& out) {
+    return std::vector<std::string>{"search", "box", "--format", "e7m16", "--clock", "4ns", "--records", "500",
+                                    "--adversarial", "3000", "--rows", rows.dir.string(), "--no-characterize",
+                                    "--out", out.string(), "--quiet", "--threads", "2"};
+  };
+  auto args = box(t.p / "b");
+  args.push_back("--no-verify");
+  const auto r = run_rayunits(args, 300);
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("16 designs evaluated"), std::string::npos) << r.out;
+  const auto doc = nlohmann::json::parse(slurp(t.p / "b" / "front.json"));
+  EXPECT_EQ(doc.at("all").size(), 16u);
+  ASSERT_GE(doc.at("front").size(), 1u);
+  int hand = 0;
+  for (const auto& d : doc["all"]) hand += !d.at("role").get<std::string>().empty();
+  EXPECT_EQ(hand, 2);
+  // the hand conservative design never misses; the plain one does on the adversarial rays
+  for (const auto& d : doc["all"]) {
+    if (d.at("design") == "box-r1-f0-m0") {
+      EXPECT_EQ(d.at("fitness").at("false_misses"), 0);
+    }
+    if (d.at("design") == "box-r0-f0-m0") {
+      EXPECT_GT(d.at("fitness").at("false_misses"), 0);
+    }
+  }
+  for (const char* f : {"front.csv", "all.csv"}) EXPECT_TRUE(fs::exists(t.p / "b" / f)) << f;
+  for (const auto& d : doc["front"])
+    EXPECT_TRUE(fs::exists(t.p / "b" / "designs" / (d.at("unit").get<std::string>().substr(3) + ".dp")));
+  const std::vector<std::vector<std::string>> bad = {{"--epsilon", "0"}, {"--format", "e1m2"}, {"--clock", "fast"},
+                                                     {"--records", "0"}, {"--rows", "/no/such/dir"}};
+  for (const auto& extra : bad) {
+    auto a = box(t.p / "bad");
+    a.insert(a.end(), extra.begin(), extra.end());
+    const auto b = run_rayunits(a, 120);
+    EXPECT_EQ(b.code, 2) << extra[0] << ": " << b.err;
+    EXPECT_EQ(std::count(b.err.begin(), b.err.end(), '\n'), 1) << b.err;
+    EXPECT_FALSE(fs::exists(t.p / "bad")) << extra[0];
+  }
+}
+
 // A search as a sweep job (kind "search"): two seeds, two jobs, their reported designs and the
 // references as typed rows of results.jsonl; a rerun skips both (the searches' state is in out/).
 TEST(SearchCli, RunsAsSweepJobs) {
@@ -543,6 +590,39 @@ TEST(LongSearchCli, ReportedDesignsAreVerifiedAndAPlantedRtlErrorIsCaught) {
   ::setenv("RU_DP_DESIGNS", (t.p / "s" / "designs").c_str(), 1);
   const auto v = run_rayunits({"rtl", unit, "--format", "e5m10", "--stages", "max", "--rtl", (t.p / "s" / "rtl").string(),
                                "--vectors", "2000", "--quiet"},
+                              1800);
+  ::unsetenv("RU_DP_DESIGNS");
+  EXPECT_EQ(v.code, 1) << v.out << v.err;
+  EXPECT_NE(v.out.find("MISMATCH"), std::string::npos);
+}
+
+// The reported ray-box designs are verified cycle by cycle too; a planted error (one directed
+// rounding of an emitted module made round-to-nearest) fails the same verification.
+TEST(LongSearchCli, BoxDesignsAreVerifiedAndAPlantedRtlErrorIsCaught) {
+  Rows rows("e5m10");
+  rows.realistic();
+  rows.add("fp_fma", 1, 3950, 150000);
+  ru::test::TempDir t("ru_search_box_verify");
+  const auto r = run_rayunits({"search", "box", "--format", "e5m10", "--clock", "4ns", "--records", "300", "--adversarial",
+                               "300", "--rows", rows.dir.string(), "--no-characterize", "--epsilon", "1e-6", "--out",
+                               (t.p / "b").string(), "--quiet"},
+                              3000);
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  const auto doc = nlohmann::json::parse(slurp(t.p / "b" / "front.json"));
+  std::string directed;
+  for (const auto& d : doc.at("front")) {
+    EXPECT_EQ(d.at("rtl"), "pass") << d.at("design");
+    const std::string u = d.at("unit");
+    if (directed.empty() && slurp(t.p / "b" / "rtl" / ("ru_" + u + ".sv")).find(".Round(2)") != std::string::npos) directed = u;
+  }
+  ASSERT_FALSE(directed.empty()) << "no reported design with a directed rounding";
+  const fs::path sv = t.p / "b" / "rtl" / ("ru_" + directed + ".sv");
+  std::string text = slurp(sv);
+  text.replace(text.find(".Round(2)"), 9, ".Round(0)");
+  std::ofstream(sv) << text;
+  ::setenv("RU_DP_DESIGNS", (t.p / "b" / "designs").c_str(), 1);
+  const auto v = run_rayunits({"rtl", directed, "--format", "e5m10", "--stages", "max", "--rtl", (t.p / "b" / "rtl").string(),
+                               "--vectors", "5000", "--quiet"},
                               1800);
   ::unsetenv("RU_DP_DESIGNS");
   EXPECT_EQ(v.code, 1) << v.out << v.err;

@@ -160,7 +160,7 @@ CostModel CostModel::build(const std::vector<std::string>& row_paths, const synt
                                           p.fastest_point + ")"
                                     : " (none at all)") +
           (p.stale ? "; " + std::to_string(p.stale) + " rows are stale (rtl_hash differs)" : "") +
-          (measure_file.empty() ? "; let the search characterize the units (--characterize)" : ""));
+          (measure_file.empty() ? "; let the search characterize the units (drop --no-characterize)" : ""));
     m.units_[unit] = p.best;
   }
   return m;
@@ -369,6 +369,82 @@ Fitness evaluate_fitness(const Graph& g, const Workload& w, const CostModel& cm)
   return f;
 }
 
+// ---- the ray-box designs ---------------------------------------------------------------------
+
+BoxWorkload make_box_workload(const std::vector<units::BoxRecord>& recs, const Format& fmt) {
+  BoxWorkload w;
+  w.fmt = fmt;
+  const Format in_fmt{fmt.exp_bits, fmt.frac_bits, fmt.subnormals, num::Round::RNE};
+  uint64_t hv = util::fnv1a64(fmt.name() + "|box|");
+  for (const auto& r : recs) {
+    const std::vector<double> x = box_inputs(r);
+    std::array<double, 14> in{};
+    bool ok = true;
+    for (int k = 0; k < 14; ++k) {
+      in[k] = num::to_double(in_fmt, num::from_double(in_fmt, x[k]).bits);
+      if (std::isnan(in[k])) ok = false;
+      const bool finite_needed = k < 3 || k >= 8;  // o, lo, hi (inv and t may be infinite)
+      if (finite_needed && !std::isfinite(in[k])) ok = false;
+    }
+    if (!ok) {
+      ++w.skipped;
+      continue;
+    }
+    const auto V = [&](int k) { return units::Vec3d{in[k], in[k + 1], in[k + 2]}; };
+    w.exact.push_back(units::exact_slab(V(0), V(3), V(8), V(11), in[6], in[7]));
+    w.in.push_back(in);
+    hv = util::fnv1a64(std::string_view(reinterpret_cast<const char*>(in.data()), sizeof in), hv);
+  }
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(hv));
+  w.hash = buf;
+  return w;
+}
+
+Fitness evaluate_box_fitness(const Graph& g, const BoxWorkload& w, const CostModel& cm) {
+  Fitness f;
+  f.cost = cm.cost(g);
+  num::SoftScope scope(w.fmt);
+  const int hit_n = g.output_node("hit");
+  const int out_n[2] = {g.output_node("t_enter"), g.output_node("t_exit")};
+  const double big = num::to_double(w.fmt, w.fmt.max_finite(false));
+  std::vector<Soft> x(14);
+  double sum[2] = {0, 0};
+  uint64_t cnt[2] = {0, 0};
+  mpq_class diff;
+  for (size_t r = 0; r < w.in.size(); ++r) {
+    for (int k = 0; k < 14; ++k) x[k] = Soft::from_double(w.in[r][k]);
+    const auto v = evaluate<Soft>(g, x);
+    const bool hit = v[hit_n].b, exact_hit = w.exact[r].hit;
+    f.false_hits += hit && !exact_hit;
+    f.false_misses += !hit && exact_hit;
+    if (!exact_hit) continue;
+    const units::XQ* ex[2] = {&w.exact[r].t_enter, &w.exact[r].t_exit};
+    for (int k = 0; k < 2; ++k) {
+      if (ex[k]->kind != units::XQ::Finite || sgn(ex[k]->q) == 0) continue;
+      double y = v[out_n[k]].v.to_double(), rel;
+      if (std::isnan(y)) {
+        ++f.nan;
+        rel = 1.0;
+      } else {
+        if (std::isinf(y)) y = std::copysign(big, y);
+        diff = mpq_class(y) - ex[k]->q;
+        diff /= ex[k]->q;
+        rel = std::fabs(diff.get_d());
+      }
+      sum[k] += rel;
+      ++cnt[k];
+      f.max_tbg[k] = std::max(f.max_tbg[k], rel);
+    }
+  }
+  for (int k = 0; k < 2; ++k) {
+    f.mean_tbg[k] = cnt[k] ? sum[k] / static_cast<double>(cnt[k]) : 0.0;
+    f.mean_rel = std::max(f.mean_rel, f.mean_tbg[k]);
+    f.max_rel = std::max(f.max_rel, f.max_tbg[k]);
+  }
+  return f;
+}
+
 // ---- the search ------------------------------------------------------------------------------
 
 namespace {
@@ -390,9 +466,11 @@ std::vector<size_t> non_dominated(const std::vector<V>& v) {
   return out;
 }
 
+std::string name_of(const Candidate& c) { return c.name.empty() ? genome_name(c.genome) : c.name; }
+
 bool area_then_name(const Candidate& a, const Candidate& b) {
   if (a.fit.cost.area_um2 != b.fit.cost.area_um2) return a.fit.cost.area_um2 < b.fit.cost.area_um2;
-  return genome_name(a.genome) < genome_name(b.genome);
+  return name_of(a) < name_of(b);
 }
 
 }  // namespace

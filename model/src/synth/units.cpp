@@ -144,15 +144,18 @@ std::vector<std::string> fp_long(const std::string& mid) {
 // add div cmp (4 add, 2 mul), ray_tri_mt = add mul add mul add add div mul add cmp (5 add, 3 mul).
 // (The registry before this one counted one add level too many for both triangle units.) Checked against each top module's MaxUsefulStages
 // (check_against_rtl, ctest Registry.MaxUsefulStagesMatchRtl).
-// A ray-triangle datapath graph (dp/ir.hpp) as a registry unit dp_<stem>: module ru_dp_<stem>,
-// file list ru_dp_<stem>.f, one W-bit port per graph input and output (a Boolean output is 1 bit),
-// the graph itself as the golden model (models::dp_golden), the ray-triangle workload as inputs
-// (17 fields in the graphs' input order), the maximum Stages from the graph's levels.
+// A ray-triangle or ray-box datapath graph (dp/ir.hpp) as a registry unit dp_<stem>: module
+// ru_dp_<stem>, file list ru_dp_<stem>.f, one W-bit port per graph input and output (a Boolean
+// output is 1 bit), the graph itself as the golden model (models::dp_golden), the ray-triangle
+// (17 fields) or ray-box (14 fields) workload as inputs in the graphs' input order, the maximum
+// Stages from the graph's levels.
 UnitSpec dp_unit(const std::string& stem, const std::string& summary, std::shared_ptr<const dp::Graph> g) {
-  const dp::Graph tri = dp::ray_tri_mt_graph();
-  if (g->inputs() != tri.inputs())
-    throw SynthError("datapath design " + stem + ": a unit needs the ray-triangle inputs (ax ay az dx .. tmax), got " +
-                     std::to_string(g->inputs().size()) + " inputs");
+  const dp::Graph tri = dp::ray_tri_mt_graph(), box = dp::box_graph(dp::box_plain_genome());
+  const bool is_box = g->inputs() == box.inputs();
+  if (g->inputs() != tri.inputs() && !is_box)
+    throw SynthError("datapath design " + stem +
+                     ": a unit needs the ray-triangle inputs (ax ay az dx .. tmax) or the ray-box inputs (ox oy oz ix .. "
+                     "hiz), got " + std::to_string(g->inputs().size()) + " inputs");
   UnitSpec s;
   s.name = "dp_" + stem;
   s.top = "ru_dp_" + stem;
@@ -169,7 +172,7 @@ UnitSpec dp_unit(const std::string& stem, const std::string& summary, std::share
                                                         : fout(pn.c_str(), "W", doc.c_str()));
   }
   s.golden = [g](const UnitConfig& c) { return models::dp_golden(c, g); };
-  s.random_inputs = models::ray_tri_inputs;
+  s.random_inputs = is_box ? models::ray_box_inputs : models::ray_tri_inputs;
   s.large_model = true;
   s.max_stages_expr = dp::max_stages_expr(*g);
   return s;

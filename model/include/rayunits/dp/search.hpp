@@ -40,6 +40,7 @@
 #include "rayunits/dp/ir.hpp"
 #include "rayunits/num/format.hpp"
 #include "rayunits/synth/cell.hpp"
+#include "rayunits/units/exact.hpp"
 #include "rayunits/units/mesh.hpp"
 #include "rayunits/units/trace.hpp"
 
@@ -138,6 +139,23 @@ Fitness fitness_from_json(const nlohmann::json& j);
 // Every figure of one candidate (single-threaded; the search runs candidates in parallel).
 Fitness evaluate_fitness(const Graph& g, const Workload& w, const CostModel& cm);
 
+// ---- the ray-box designs (issue 18 §2, "the same for the ray-box unit") -----------------------
+
+// Ray-box records rounded into the format (RNE) with the exact slab test on those values.
+struct BoxWorkload {
+  num::Format fmt;
+  std::vector<std::array<double, 14>> in;  // graph input order (box_inputs)
+  std::vector<units::ExactBox> exact;
+  size_t skipped = 0;  // records whose origin or box overflows the format (or a NaN input)
+  std::string hash;
+};
+BoxWorkload make_box_workload(const std::vector<units::BoxRecord>& recs, const num::Format& fmt);
+// The ray-box figures in the Fitness fields: mean/max relative error of t_enter and t_exit
+// (mean_tbg[0..1]) where the exact test hits and the exact value is finite and not 0; false_misses
+// (boxes the exact test hits and the design misses: holes for a traversal) and false_hits (extra
+// traversal work); no mesh counts (leaks, double_hits 0).
+Fitness evaluate_box_fitness(const Graph& g, const BoxWorkload& w, const CostModel& cm);
+
 // ---- the search ------------------------------------------------------------------------------
 
 struct SearchOptions {
@@ -154,6 +172,7 @@ struct SearchOptions {
 
 struct Candidate {
   TriGenome genome;
+  std::string name;  // the design's name when it is not a TriGenome (ray-box: box_genome_name)
   Fitness fit;
   std::string key;  // evaluation cache key (hash of graph text and workload/cost model)
 };
