@@ -265,12 +265,16 @@ int run_box(const BoxArgs& a, int argc, char** argv) {
 }
 
 int run_search_cmd(int argc, char** argv) {
-  CLI::App app{"Searches ray-triangle formulations (docs/DATAPATH.md \"The search\") with NSGA-II on four "
-               "objectives: area at the clock (a cost model built from the cell-library flow's FP-unit rows, "
-               "an estimate), mean and max relative error of t, beta, gamma against exact rationals, and "
-               "misses (watertightness leaks on a closed mesh + false misses) and extras (double hits + false hits). "
-               "Resumable: run the same command again to continue; a larger --budget extends a finished run. "
-               "Writes DIR/front.json, front.csv, evaluations.jsonl, state.json, cell_rows.jsonl, designs/<genome>.dp.",
+  CLI::App app{"Searches datapath formulations (docs/DATAPATH.md \"The search\"). tri: NSGA-II over ray-triangle "
+               "formulations on area at the clock (a cost model built from the cell-library flow's FP-unit rows, "
+               "an estimate), mean and max relative error of t, beta, gamma against exact rationals, misses "
+               "(watertightness leaks on a closed mesh + false misses) and extras (double hits + false hits), with "
+               "--fused also the clock period; resumable: run the same command again to continue, a larger --budget "
+               "extends a finished run; writes DIR/front.json, front.csv, evaluations.jsonl, state.json, "
+               "cell_rows.jsonl, designs/<genome>.dp. box: all 16 ray-box formulations on area, error of t_enter / "
+               "t_exit against the exact slab test, false misses, false hits and the clock period; writes "
+               "DIR/front.json, front.csv, all.csv, designs/. Both emit the reported designs and verify them cycle by "
+               "cycle (DIR/rtl, DIR/verify).",
                "rayunits search"};
   app.require_subcommand(1);
   auto* tri = app.add_subcommand("tri", "ray-triangle formulations (NSGA-II)");

@@ -287,6 +287,20 @@ TEST(SearchCost, FmaRowsOnlyForFusedSearches) {
   Rows none;
   none.realistic();
   EXPECT_THROW(CostModel::build({none.dir.string()}, lib, f, 4000, "", {}, true), ru::synth::SynthError);
+  // rows through the maximum useful Stages, none meeting the clock: the fastest is taken and the unit
+  // is not characterized again (no synthesis, nothing appended to the measure file)
+  Rows slow;
+  slow.realistic();
+  ru::synth::UnitConfig cfg;
+  cfg.fmt = f;
+  const int smax = ru::synth::find_unit("fp_fma").max_stages(cfg);
+  slow.add("fp_fma", smax, 6460, 285874);
+  slow.add("fp_fma", 3, 6969, 152907);
+  const fs::path measure = slow.dir / "measured.jsonl";
+  const CostModel s = CostModel::build({slow.dir.string()}, lib, f, 4000, measure.string(), {}, true);
+  EXPECT_EQ(s.units().at("fp_fma").stages, smax);
+  EXPECT_DOUBLE_EQ(s.cost(tri_graph(parse_genome_name("mt-q1-i0-p0-u1"))).period_ps, 6460);
+  EXPECT_FALSE(fs::exists(measure));
 }
 
 Candidate planted(const std::string& genome, double area, double mean, double max, uint64_t leaks, uint64_t dbl) {

@@ -58,6 +58,7 @@ struct Pick {
   std::string fastest_point;
   UnitChoice fastest_row;  // the fastest current row (unit empty: none)
   size_t stale = 0;
+  int max_stages = -1;  // the largest Stages among the current rows
 };
 
 Pick pick_row(const std::vector<synth::CheckedInRow>& rows, const std::string& unit, const std::string& library,
@@ -76,6 +77,7 @@ Pick pick_row(const std::vector<synth::CheckedInRow>& rows, const std::string& u
       continue;
     }
     const double per = j["period_ps"].get<double>(), area = j["area_um2"].get<double>();
+    p.max_stages = std::max(p.max_stages, j.value("stages", 0));
     std::string point = j.contains("point") && j["point"].is_string() ? j["point"].get<std::string>()
                                                                         : r.file + ":" + std::to_string(r.line);
     if (per < p.fastest) p.fastest = per, p.fastest_point = point, p.fastest_row = UnitChoice{unit, j.value("stages", 0), area, per, point};
@@ -104,7 +106,12 @@ CostModel CostModel::build(const std::vector<std::string>& row_paths, const synt
     const synth::UnitSpec& spec = synth::find_unit(unit);
     const std::string hash = synth::sources_hash(synth::resolve_sources(spec, synth::default_rtl_dir()));
     Pick p = pick_row(rows, unit, lib.name, fmt, period_ps, hash);
-    if (!p.found && !measure_file.empty()) {
+    synth::UnitConfig fc;
+    fc.fmt = fmt;
+    // A current row at the unit's maximum useful Stages: it was characterized through its whole
+    // range (by an earlier search) and none met the clock; not again.
+    const bool exhausted = p.max_stages >= spec.max_stages(fc);
+    if (!p.found && !measure_file.empty() && !exhausted) {
       // Characterize: Stages upward from an estimate until one meets the clock, then one more.
       synth::FlowOptions fo;
       fo.flow = lib.name;
