@@ -15,7 +15,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// A design name, a genome name of the search (sv-f0-o0-...), or a file in the text form
+// A design name, a genome name of the search (sv-f0-o0-..., box-r1-f0-m0), or a file in the text form
 // (docs/DATAPATH.md).
 // origin: what emit writes as the module's origin line (empty for a graph file).
 dp::Graph load(const std::string& what, std::string& origin) {
@@ -26,6 +26,15 @@ dp::Graph load(const std::string& what, std::string& origin) {
       const dp::TriGenome g = dp::parse_genome_name(what);
       origin = "genome " + dp::genome_name(g);
       return dp::tri_graph(g);
+    } catch (const dp::IrError& e) {
+      throw UsageError(e.what());
+    }
+  }
+  if (what.rfind("box-", 0) == 0) {  // a ray-box design of `rayunits search box`
+    try {
+      const dp::BoxGenome g = dp::parse_box_genome_name(what);
+      origin = "genome " + dp::box_genome_name(g);
+      return dp::box_graph(g);
     } catch (const dp::IrError& e) {
       throw UsageError(e.what());
     }
@@ -48,7 +57,7 @@ dp::Graph load(const std::string& what, std::string& origin) {
 
 int run_dp(int argc, char** argv) {
   CLI::App app{"The datapath IR (docs/DATAPATH.md): `list` the named designs; `print`, `count` or `emit` a "
-               "design, a genome of `rayunits search tri` (sv-f0-o0-d0-a0-q0-i0-t0-p0, mt-q1-i0-p0) or a graph file. emit writes DIR/MODULE.sv (the module, registers placed by the level "
+               "design, a genome of `rayunits search tri` (sv-f0-o0-d0-a0-q0-i0-t0-p0, mt-q1-i0-p0), a ray-box design of `rayunits search box` (box-r1-f0-m0) or a graph file. emit writes DIR/MODULE.sv (the module, registers placed by the level "
                "chain) and DIR/MODULE.f (its RTL file list).",
                "rayunits dp"};
   app.require_subcommand(1);

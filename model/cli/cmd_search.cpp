@@ -37,11 +37,14 @@ std::string csv_header() {
          "mean_rel_gamma,nan,false_hits,false_misses,leaks,double_hits,misses,extras,role";
 }
 
+// Operations of kind k in a design's cost breakdown (0 when it has none).
+std::string op_count(const dp::Fitness& f, const char* k) {
+  const auto it = f.cost.ops.find(k);
+  return std::to_string(it == f.cost.ops.end() ? 0 : it->second);
+}
+
 std::string csv_row(const dp::TriGenome& g, const dp::Fitness& f, const std::string& role) {
-  auto op = [&](const char* k) {
-    const auto it = f.cost.ops.find(k);
-    return std::to_string(it == f.cost.ops.end() ? 0 : it->second);
-  };
+  auto op = [&](const char* k) { return op_count(f, k); };
   return dp::genome_name(g) + "," + fmt_g(f.cost.area_um2, 8) + "," + fmt_g(f.cost.units_um2, 8) + "," +
          fmt_g(f.cost.reg_um2, 8) + "," + std::to_string(f.cost.latency) + "," + op("add") + "," + op("mul") + "," +
          op("div") + "," + op("cmp") + "," + op("fma") + "," + fmt_g(f.mean_rel, 6) + "," + fmt_g(f.max_rel, 6) + "," +
@@ -140,10 +143,7 @@ std::string box_csv_header() {
 }
 
 std::string box_csv_row(const std::string& name, const dp::Fitness& f, const std::string& role) {
-  auto op = [&](const char* k) {
-    const auto it = f.cost.ops.find(k);
-    return std::to_string(it == f.cost.ops.end() ? 0 : it->second);
-  };
+  auto op = [&](const char* k) { return op_count(f, k); };
   return name + "," + fmt_g(f.cost.area_um2, 8) + "," + fmt_g(f.cost.units_um2, 8) + "," + fmt_g(f.cost.reg_um2, 8) +
          "," + std::to_string(f.cost.latency) + "," + fmt_g(f.cost.period_ps, 6) + "," + op("add") + "," + op("mul") +
          "," + op("fma") + "," + op("cmp") + "," + fmt_g(f.mean_rel, 6) + "," + fmt_g(f.max_rel, 6) + "," +

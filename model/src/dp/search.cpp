@@ -313,17 +313,50 @@ Fitness fitness_from_json(const nlohmann::json& j) {
   return f;
 }
 
+namespace {
+
+// Relative errors of up to three outputs against exact values (a NaN counts 1 and is counted in
+// Fitness::nan; an infinity is clamped to the largest finite value), summed into the Fitness.
+struct RelErrors {
+  explicit RelErrors(double largest) : big(largest) {}
+  double big;  // the format's largest finite value
+  double sum[3] = {0, 0, 0};
+  uint64_t cnt[3] = {0, 0, 0};
+  mpq_class diff;
+  void add(Fitness& f, int k, double y, const mpq_class& ex) {
+    double rel;
+    if (std::isnan(y)) {
+      ++f.nan;
+      rel = 1.0;
+    } else {
+      if (std::isinf(y)) y = std::copysign(big, y);
+      diff = mpq_class(y) - ex;
+      diff /= ex;
+      rel = std::fabs(diff.get_d());
+    }
+    sum[k] += rel;
+    ++cnt[k];
+    f.max_tbg[k] = std::max(f.max_tbg[k], rel);
+  }
+  void finish(Fitness& f) const {
+    for (int k = 0; k < 3; ++k) {
+      f.mean_tbg[k] = cnt[k] ? sum[k] / static_cast<double>(cnt[k]) : 0.0;
+      f.mean_rel = std::max(f.mean_rel, f.mean_tbg[k]);
+      f.max_rel = std::max(f.max_rel, f.max_tbg[k]);
+    }
+  }
+};
+
+}  // namespace
+
 Fitness evaluate_fitness(const Graph& g, const Workload& w, const CostModel& cm) {
   Fitness f;
   f.cost = cm.cost(g);
   num::SoftScope scope(w.fmt);
   const int hit_n = g.output_node("hit");
   const int out_n[3] = {g.output_node("t"), g.output_node("beta"), g.output_node("gamma")};
-  const double big = num::to_double(w.fmt, w.fmt.max_finite(false));
+  RelErrors err(num::to_double(w.fmt, w.fmt.max_finite(false)));
   std::vector<Soft> x(17);
-  double sum[3] = {0, 0, 0};
-  uint64_t cnt[3] = {0, 0, 0};
-  mpq_class diff;
   for (size_t r = 0; r < w.in.size(); ++r) {
     for (int k = 0; k < 17; ++k) x[k] = Soft::from_double(w.in[r][k]);
     const auto v = evaluate<Soft>(g, x);
@@ -334,27 +367,10 @@ Fitness evaluate_fitness(const Graph& g, const Workload& w, const CostModel& cm)
     for (int k = 0; k < 3; ++k) {
       const mpq_class& ex = w.exact_tbg[r][k];
       if (sgn(ex) == 0) continue;  // a ray through an edge: no relative error
-      double y = v[out_n[k]].v.to_double();
-      double rel;
-      if (std::isnan(y)) {
-        ++f.nan;
-        rel = 1.0;
-      } else {
-        if (std::isinf(y)) y = std::copysign(big, y);
-        diff = mpq_class(y) - ex;
-        diff /= ex;
-        rel = std::fabs(diff.get_d());
-      }
-      sum[k] += rel;
-      ++cnt[k];
-      f.max_tbg[k] = std::max(f.max_tbg[k], rel);
+      err.add(f, k, v[out_n[k]].v.to_double(), ex);
     }
   }
-  for (int k = 0; k < 3; ++k) {
-    f.mean_tbg[k] = cnt[k] ? sum[k] / static_cast<double>(cnt[k]) : 0.0;
-    f.mean_rel = std::max(f.mean_rel, f.mean_tbg[k]);
-    f.max_rel = std::max(f.max_rel, f.max_tbg[k]);
-  }
+  err.finish(f);
   if (w.mesh_rays > 0) {
     units::WatertightOptions o;
     o.fmt = w.fmt;
@@ -414,11 +430,8 @@ Fitness evaluate_box_fitness(const Graph& g, const BoxWorkload& w, const CostMod
   num::SoftScope scope(w.fmt);
   const int hit_n = g.output_node("hit");
   const int out_n[2] = {g.output_node("t_enter"), g.output_node("t_exit")};
-  const double big = num::to_double(w.fmt, w.fmt.max_finite(false));
+  RelErrors err(num::to_double(w.fmt, w.fmt.max_finite(false)));
   std::vector<Soft> x(14);
-  double sum[2] = {0, 0};
-  uint64_t cnt[2] = {0, 0};
-  mpq_class diff;
   for (size_t r = 0; r < w.in.size(); ++r) {
     for (int k = 0; k < 14; ++k) x[k] = Soft::from_double(w.in[r][k]);
     const auto v = evaluate<Soft>(g, x);
@@ -429,26 +442,10 @@ Fitness evaluate_box_fitness(const Graph& g, const BoxWorkload& w, const CostMod
     const units::XQ* ex[2] = {&w.exact[r].t_enter, &w.exact[r].t_exit};
     for (int k = 0; k < 2; ++k) {
       if (ex[k]->kind != units::XQ::Finite || sgn(ex[k]->q) == 0) continue;
-      double y = v[out_n[k]].v.to_double(), rel;
-      if (std::isnan(y)) {
-        ++f.nan;
-        rel = 1.0;
-      } else {
-        if (std::isinf(y)) y = std::copysign(big, y);
-        diff = mpq_class(y) - ex[k]->q;
-        diff /= ex[k]->q;
-        rel = std::fabs(diff.get_d());
-      }
-      sum[k] += rel;
-      ++cnt[k];
-      f.max_tbg[k] = std::max(f.max_tbg[k], rel);
+      err.add(f, k, v[out_n[k]].v.to_double(), ex[k]->q);
     }
   }
-  for (int k = 0; k < 2; ++k) {
-    f.mean_tbg[k] = cnt[k] ? sum[k] / static_cast<double>(cnt[k]) : 0.0;
-    f.mean_rel = std::max(f.mean_rel, f.mean_tbg[k]);
-    f.max_rel = std::max(f.max_rel, f.max_tbg[k]);
-  }
+  err.finish(f);
   return f;
 }
 
