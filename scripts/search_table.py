@@ -15,6 +15,10 @@ genome its module names in its "// origin:" line (written by `rayunits dp emit` 
 search): rtl/ru_<unit>.sv for the built-in dp units (the hand designs), DIR/rtl/ru_<unit>.sv for
 the search's run-time ones.
 
+A directory of `rayunits search box` (front.json context kind "box") gets the ray-box table
+instead: reported and hand designs with area, latency, the model's clock period, the errors of
+t_enter / t_exit, false misses and false hits; --plot draws all 16 designs (DIR/all.csv).
+
 usage: scripts/search_table.py DIR [--plot FILE.png] [--md FILE]
 """
 import csv
@@ -87,10 +91,57 @@ def synth_table(d, rows, fitness):
             "| STA Fmax | row |", "|---|---:|---:|---:|---:|---:|---:|---|"] + out
 
 
+def box_main(d, argv):
+    """The table (and plot) of a `rayunits search box` directory."""
+    rows = list(csv.DictReader(open(os.path.join(d, "front.csv"))))
+    lines = ["| design | role | area µm² (estimate) | latency | period ps (model) | mean rel. err. t "
+             "| max rel. err. t | false misses | false hits | RTL |",
+             "|---|---|---:|---:|---:|---:|---:|---:|---:|---|"]
+    for r in rows:
+        role = r["role"].replace("reference:", "hand: ")
+        lines.append(f"| `{r['design']}` | {role} | {float(r['area_um2']):,.0f} | {r['latency']} "
+                     f"| {float(r['period_ps']):,.0f} | {float(r['mean_rel']):.3g} | {float(r['max_rel']):.3g} "
+                     f"| {r['false_misses']} | {r['false_hits']} | {r.get('rtl', '') or ''} |")
+    text = "\n".join(lines) + "\n"
+    if "--md" in argv:
+        with open(argv[argv.index("--md") + 1], "w") as fo:
+            fo.write(text)
+    else:
+        sys.stdout.write(text)
+    if "--plot" in argv:
+        out = argv[argv.index("--plot") + 1]
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        allrows = list(csv.DictReader(open(os.path.join(d, "all.csv"))))
+        fig, ax = plt.subplots(figsize=(7, 4.5))
+        x = [float(r["area_um2"]) / 1e6 for r in allrows]
+        y = [float(r["mean_rel"]) for r in allrows]
+        c = [int(r["false_misses"]) for r in allrows]
+        sc = ax.scatter(x, y, c=c, cmap="viridis", s=30)
+        fig.colorbar(sc, label="false misses")
+        for r in allrows:  # the chain tree (m1) has the same errors a little right of its m0: one label
+            if r["design"].endswith("-m0"):
+                ax.annotate(r["design"].replace("box-", "").replace("-m0", ""),
+                            (float(r["area_um2"]) / 1e6, float(r["mean_rel"])), fontsize=8, xytext=(5, 3),
+                            textcoords="offset points")
+        ax.set_yscale("log")
+        ax.set_xlabel("area, mm² (cost-model estimate, osu018)")
+        ax.set_ylabel("mean relative error of t_enter, t_exit (worse of the two)")
+        ax.set_title(f"rayunits search box: {os.path.basename(os.path.normpath(d))} "
+                     "(each point pair: min/max tree m0, m1)", fontsize=9)
+        fig.tight_layout()
+        fig.savefig(out, dpi=110)
+        print(f"\nwrote {out}", file=sys.stderr)
+
+
 def main(argv):
     if len(argv) < 2 or argv[1].startswith("-"):
         sys.exit("usage: search_table.py DIR [--plot FILE.png]")
     d = argv[1]
+    fj = os.path.join(d, "front.json")
+    if os.path.exists(fj) and json.load(open(fj)).get("context", {}).get("kind") == "box":
+        return box_main(d, argv)
     path = os.path.join(d, "front.csv")
     if not os.path.exists(path):
         sys.exit(f"search_table.py: no {path} (run rayunits search tri --out {d} first)")

@@ -708,4 +708,24 @@ TEST(SearchReport, TablesAreReadFromTheResultFiles) {
   EXPECT_EQ(index.find("not_a_search"), std::string::npos);
 }
 
+// A ray-box search directory gets its own table: a planted area reaches the report.
+TEST(SearchReport, BoxTablesAreReadFromTheResultFiles) {
+  ru::test::TempDir t("ru_search_report_box");
+  const fs::path src = fs::path(RU_SOURCE_DIR) / "sweeps" / "results" / "search" / "box_e7m16_250MHz";
+  const fs::path d = t.p / "boxplanted";
+  fs::create_directories(d);
+  for (const char* f : {"front.json", "all.csv"}) fs::copy_file(src / f, d / f);
+  std::string csv = slurp((src / "front.csv").string());
+  const std::string row = "box-r1-f0-m0,1154161,";
+  ASSERT_NE(csv.find(row), std::string::npos) << "the checked-in front.csv changed: update this test";
+  csv.replace(csv.find(row), row.size(), "box-r1-f0-m0,7654321,");
+  std::ofstream(d / "front.csv") << csv;
+  const auto r = run_rayunits({"report", "--sections", "search", "--param", "search.dir=" + t.p.string(), "--out",
+                               (t.p / "rep").string(), "--quiet"});
+  ASSERT_EQ(r.code, 0) << r.out << r.err;
+  const std::string md = slurp((t.p / "rep" / "search_boxplanted.md").string());
+  EXPECT_NE(md.find("| `box-r1-f0-m0` | hand: ru_ray_box conservative | 7,654,321 | 13 |"), std::string::npos) << md;
+  EXPECT_TRUE(fs::exists(t.p / "rep" / "search_boxplanted.png"));
+}
+
 }  // namespace
