@@ -91,6 +91,29 @@ def synth_table(d, rows, fitness):
             "| STA Fmax | row |", "|---|---:|---:|---:|---:|---:|---:|---|"] + out
 
 
+def write_text(text, argv):
+    """The Markdown to --md FILE, or to standard output."""
+    if "--md" in argv:
+        with open(argv[argv.index("--md") + 1], "w") as fo:
+            fo.write(text)
+    else:
+        sys.stdout.write(text)
+
+
+def new_plot():
+    """A figure and axes for the front plots (matplotlib, no display)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt.subplots(figsize=(7, 4.5))
+
+
+def save_plot(fig, out):
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+    print(f"\nwrote {out}", file=sys.stderr)
+
+
 def box_main(d, argv):
     """The table (and plot) of a `rayunits search box` directory."""
     rows = list(csv.DictReader(open(os.path.join(d, "front.csv"))))
@@ -102,19 +125,11 @@ def box_main(d, argv):
         lines.append(f"| `{r['design']}` | {role} | {float(r['area_um2']):,.0f} | {r['latency']} "
                      f"| {float(r['period_ps']):,.0f} | {float(r['mean_rel']):.3g} | {float(r['max_rel']):.3g} "
                      f"| {r['false_misses']} | {r['false_hits']} | {r.get('rtl', '') or ''} |")
-    text = "\n".join(lines) + "\n"
-    if "--md" in argv:
-        with open(argv[argv.index("--md") + 1], "w") as fo:
-            fo.write(text)
-    else:
-        sys.stdout.write(text)
+    write_text("\n".join(lines) + "\n", argv)
     if "--plot" in argv:
         out = argv[argv.index("--plot") + 1]
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
         allrows = list(csv.DictReader(open(os.path.join(d, "all.csv"))))
-        fig, ax = plt.subplots(figsize=(7, 4.5))
+        fig, ax = new_plot()
         x = [float(r["area_um2"]) / 1e6 for r in allrows]
         y = [float(r["mean_rel"]) for r in allrows]
         c = [int(r["false_misses"]) for r in allrows]
@@ -130,9 +145,7 @@ def box_main(d, argv):
         ax.set_ylabel("mean relative error of t_enter, t_exit (worse of the two)")
         ax.set_title(f"rayunits search box: {os.path.basename(os.path.normpath(d))} "
                      "(each point pair: min/max tree m0, m1)", fontsize=9)
-        fig.tight_layout()
-        fig.savefig(out, dpi=110)
-        print(f"\nwrote {out}", file=sys.stderr)
+        save_plot(fig, out)
 
 
 def main(argv):
@@ -163,19 +176,11 @@ def main(argv):
         for e in f.get("front", []) + f.get("references", []):
             fitness[e["genome"]] = e.get("fitness", {})
     lines += synth_table(d, rows, fitness)
-    text = "\n".join(lines) + "\n"
-    if "--md" in argv:
-        with open(argv[argv.index("--md") + 1], "w") as fo:
-            fo.write(text)
-    else:
-        sys.stdout.write(text)
+    write_text("\n".join(lines) + "\n", argv)
     if "--plot" in argv:
         out = argv[argv.index("--plot") + 1]
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
         allrows = list(csv.DictReader(open(os.path.join(d, "pareto_all.csv"))))
-        fig, ax = plt.subplots(figsize=(7, 4.5))
+        fig, ax = new_plot()
         x = [float(r["area_um2"]) / 1e6 for r in allrows]
         y = [float(r["mean_rel"]) for r in allrows]
         c = [int(r["leaks"]) + int(r["false_misses"]) for r in allrows]
@@ -198,9 +203,7 @@ def main(argv):
         ax.set_ylabel("mean relative error of t, β, γ (worst of the three)")
         ax.set_title(f"rayunits search tri: {os.path.basename(os.path.normpath(d))} "
                      "(circles: reported, x: hand designs)", fontsize=9)
-        fig.tight_layout()
-        fig.savefig(out, dpi=110)
-        print(f"\nwrote {out}", file=sys.stderr)
+        save_plot(fig, out)
 
 
 if __name__ == "__main__":
