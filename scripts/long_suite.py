@@ -1,0 +1,250 @@
+#!/usr/bin/env python3
+"""Runs the long test suite (ctest label `long`) so that it can be resumed across sessions.
+
+The whole long suite takes longer than one working session on the 2-core machine. This runner
+records every finished test at once (one JSON line in a state file), so a stopped run loses only
+the tests that were running, and the next invocation runs only what has not passed yet.
+
+    scripts/long_suite.py [--build DIR] [-j N] [-R REGEX] [--retry-failed]
+    scripts/long_suite.py --status [--build DIR]
+
+State lives in DIR/long-suite/<key>.jsonl; <key> is a hash of the committed tree without README.md
+(so a README-only commit keeps a run's results, any other change starts a new run). A working tree
+with uncommitted changes to tracked files other than README.md is refused: results must belong to
+a commit. The failed tests' output goes to DIR/long-suite/<key>/<test>.log.
+
+Scheduling: a test takes as many of the N slots as its PROCESSORS property (at most N); fixture
+setup tests run before the tests that require them, once per run (a passed setup is not repeated:
+its outputs stay in the build tree); every test runs under its own TIMEOUT (ctest -R '^name$').
+"""
+import argparse
+import datetime
+import hashlib
+import json
+import os
+import re
+import signal
+import subprocess
+import sys
+import threading
+import time
+
+
+def fail(msg):
+    print(f"long_suite: {msg}", file=sys.stderr)
+    sys.exit(2)
+
+
+def git(root, *args):
+    return subprocess.run(["git", "-C", root, *args], check=True, capture_output=True,
+                          text=True).stdout
+
+
+def code_key(root):
+    """Hash of the committed tree without README.md; refuses a dirty tracked tree."""
+    dirty = [line[3:] for line in git(root, "status", "--porcelain", "--untracked-files=no")
+             .splitlines() if line[3:] != "README.md"]
+    if dirty:
+        fail(f"uncommitted changes to tracked files ({', '.join(dirty[:3])}"
+             f"{', ...' if len(dirty) > 3 else ''}); commit first: results must belong to a commit")
+    tree = [line for line in git(root, "ls-tree", "-r", "HEAD").splitlines()
+            if line.split("\t", 1)[1] != "README.md"]
+    commit = git(root, "rev-parse", "--short", "HEAD").strip()
+    return hashlib.sha1("\n".join(tree).encode()).hexdigest()[:12], commit
+
+
+def list_tests(build, regex):
+    cmd = ["ctest", "--show-only=json-v1", "-L", "long"]
+    if regex:
+        cmd += ["-R", regex]
+    out = subprocess.run(cmd, cwd=build, capture_output=True, text=True)
+    if out.returncode != 0:
+        fail(f"ctest could not list the tests in {build}: {out.stderr.strip().splitlines()[-1:]}")
+    tests = []
+    for t in json.loads(out.stdout)["tests"]:
+        props = {p["name"]: p["value"] for p in t.get("properties", [])}
+        tests.append({
+            "name": t["name"],
+            "processors": int(props.get("PROCESSORS", 1)),
+            "setup": props.get("FIXTURES_SETUP", []),
+            "required": props.get("FIXTURES_REQUIRED", []),
+        })
+    return tests
+
+
+def read_state(path, sessions=None):
+    state = {}
+    if os.path.exists(path):
+        with open(path) as f:
+            for line in f:
+                line = line.strip()
+                if not line:
+                    continue
+                try:
+                    rec = json.loads(line)
+                except json.JSONDecodeError:
+                    continue  # a line cut by a kill: the test runs again
+                if "test" in rec:
+                    state[rec["test"]] = rec
+                elif sessions is not None and "wall_seconds" in rec:
+                    sessions.append(rec)
+    return state
+
+
+def now():
+    return datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M:%S UTC")
+
+
+class Runner:
+    def __init__(self, build, state_path, log_dir, slots, commit):
+        self.build, self.state_path, self.log_dir = build, state_path, log_dir
+        self.slots, self.free, self.commit = slots, slots, commit
+        self.lock = threading.Condition()
+        self.procs = set()
+        self.stopping = False
+        self.counts = {"passed": 0, "failed": 0, "skipped": 0}
+
+    def record(self, rec):
+        with self.lock:
+            with open(self.state_path, "a") as f:
+                f.write(json.dumps(rec) + "\n")
+
+    def run_one(self, test, need, index, total):
+        name = test["name"]
+        t0 = time.monotonic()
+        # -FA: fixture setups are scheduled by this runner, not repeated by ctest per test.
+        cmd = ["ctest", "-L", "long", "-R", "^" + re.escape(name) + "$", "-FA", ".*",
+               "--output-on-failure", "--no-tests=error"]
+        p = subprocess.Popen(cmd, cwd=self.build, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+                             text=True, start_new_session=True)
+        with self.lock:
+            self.procs.add(p)
+        out, _ = p.communicate()
+        with self.lock:
+            self.procs.discard(p)
+            self.free += need
+            self.lock.notify_all()
+            if self.stopping:
+                return
+        secs = round(time.monotonic() - t0, 1)
+        if p.returncode == 0:
+            status = "skipped" if re.search(r"\*\*\*Skipped|Not Run", out) else "passed"
+        else:
+            status = "failed"
+            os.makedirs(self.log_dir, exist_ok=True)
+            with open(os.path.join(self.log_dir, re.sub(r"[^\w.-]", "_", name) + ".log"), "w") as f:
+                f.write(out)
+        self.record({"test": name, "status": status, "seconds": secs, "finished": now(),
+                     "commit": self.commit})
+        with self.lock:
+            self.counts[status] += 1
+            done = sum(self.counts.values())
+        print(f"[{done}/{total}] {status:7s} {secs:8.1f} s  {name}", flush=True)
+
+    def run(self, tests):
+        threads = []
+        total = len(tests)
+        for i, test in enumerate(tests):
+            need = min(max(test["processors"], 1), self.slots)
+            with self.lock:
+                while self.free < need and not self.stopping:
+                    self.lock.wait()
+                if self.stopping:
+                    break
+                self.free -= need
+            th = threading.Thread(target=self.run_one, args=(test, need, i, total))
+            th.start()
+            threads.append(th)
+        for th in threads:
+            th.join()
+
+    def stop(self, *_):
+        with self.lock:
+            self.stopping = True
+            for p in self.procs:
+                try:
+                    os.killpg(p.pid, signal.SIGTERM)
+                except ProcessLookupError:
+                    pass
+            self.lock.notify_all()
+
+
+def status(tests, state_path, key, commit):
+    sessions = []
+    state = read_state(state_path, sessions)
+    names = [t["name"] for t in tests]
+    recs = [state[n] for n in names if n in state]
+    by = {s: [r for r in recs if r["status"] == s] for s in ("passed", "failed", "skipped")}
+    missing = [n for n in names if n not in state]
+    print(f"long suite, code key {key} (HEAD {commit}): {len(names)} tests; "
+          f"{len(by['passed'])} passed, {len(by['failed'])} failed, {len(by['skipped'])} skipped, "
+          f"{len(missing)} not run")
+    if recs:
+        secs = sum(r["seconds"] for r in recs)
+        commits = sorted({r["commit"] for r in recs})
+        print(f"  finished between {min(r['finished'] for r in recs)} and "
+              f"{max(r['finished'] for r in recs)}; test time {secs / 3600:.2f} h "
+              f"(sum over tests); commits {', '.join(commits)}")
+    if sessions:
+        wall = sum(s["wall_seconds"] for s in sessions)
+        print(f"  wall time {wall / 3600:.2f} h in {len(sessions)} invocation(s)")
+    for r in by["failed"]:
+        print(f"  FAILED {r['test']} ({r['seconds']} s, {r['finished']})")
+    return 0 if not missing and not by["failed"] else 1
+
+
+def main():
+    root = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--build", default=os.environ.get("RU_BUILD_DIR", os.path.join(root, "build")),
+                    help="a build tree configured with -DRU_TB_LONG=ON (default build/)")
+    ap.add_argument("-j", type=int, default=os.cpu_count() or 1, help="parallel slots (default: cores)")
+    ap.add_argument("-R", dest="regex", help="only tests whose names match (ctest -R)")
+    ap.add_argument("--retry-failed", action="store_true", help="run failed tests again")
+    ap.add_argument("--status", action="store_true", help="print what has run; run nothing")
+    ap.add_argument("--repo", default=root, help=argparse.SUPPRESS)  # the tests' scratch repository
+    args = ap.parse_args()
+    if args.j < 1:
+        fail(f"-j {args.j}: needs at least one slot")
+    build = os.path.abspath(args.build)
+    if not os.path.exists(os.path.join(build, "CTestTestfile.cmake")):
+        fail(f"{build} is not a configured build tree (expected CTestTestfile.cmake); "
+             "configure with -DRU_TB_LONG=ON and build first")
+    key, commit = code_key(args.repo)
+    tests = list_tests(build, args.regex)
+    if not tests:
+        fail(f"no long tests in {build}" + (f" match -R {args.regex}" if args.regex else "")
+             + " (was it configured with -DRU_TB_LONG=ON?)")
+    state_dir = os.path.join(build, "long-suite")
+    os.makedirs(state_dir, exist_ok=True)
+    state_path = os.path.join(state_dir, key + ".jsonl")
+    state = read_state(state_path)
+    if args.status:
+        sys.exit(status(tests, state_path, key, commit))
+
+    def wanted(t):
+        rec = state.get(t["name"])
+        return rec is None or (args.retry_failed and rec["status"] == "failed")
+    todo = [t for t in tests if wanted(t)]
+    # Fixture setups first, so that no test starts before the setup it requires has run.
+    setups = [t for t in todo if t["setup"]]
+    rest = [t for t in todo if not t["setup"]]
+    print(f"long_suite: {len(tests)} long tests, {len(tests) - len(todo)} already recorded for "
+          f"code key {key}; running {len(todo)} with -j {args.j} (state {state_path})", flush=True)
+    runner = Runner(build, state_path, os.path.join(state_dir, key), args.j, commit)
+    signal.signal(signal.SIGINT, runner.stop)
+    signal.signal(signal.SIGTERM, runner.stop)
+    runner.record({"session": "start", "at": now(), "commit": commit, "jobs": args.j})
+    t0 = time.monotonic()
+    runner.run(setups)
+    runner.run(rest)
+    runner.record({"session": "stop" if runner.stopping else "end", "at": now(), "commit": commit,
+                   "wall_seconds": round(time.monotonic() - t0, 1)})
+    if runner.stopping:
+        print("long_suite: stopped; run again to resume", file=sys.stderr)
+        sys.exit(130)
+    sys.exit(status(tests, state_path, key, commit))
+
+
+if __name__ == "__main__":
+    main()
