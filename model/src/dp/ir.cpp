@@ -29,6 +29,7 @@ constexpr OpInfo kOps[] = {
     {Op::Or, "or", 2, true, true, ""},           {Op::Not, "not", 1, true, true, ""},
     {Op::BConst, "bool", 0, true, false, ""},    {Op::SignBit, "sgn", 1, true, false, ""},
     {Op::IsNan, "nan", 1, true, false, ""},      {Op::IsInf, "inf", 1, true, false, ""},
+    {Op::Cvt, "cvt", 1, false, false, "fp_cvt"},
 };
 const OpInfo& info(Op o) {
   for (const auto& i : kOps)
@@ -76,8 +77,45 @@ int Graph::node(Op op, int a, int b, int c) {
   Node n;
   n.op = op;
   n.a = a, n.b = b, n.c = c;
+  // The node's format: that of its FP operands (which must agree); a cvt's is the other one.
+  int fmt = -1;
+  for (int k = 0; k < i.arity; ++k) {
+    const bool want_bool = op == Op::Select ? k == 0 : i.bool_args;
+    if (want_bool) continue;
+    const int w = nodes_[args[k]].wide ? 1 : 0;
+    if (fmt >= 0 && w != fmt)
+      throw IrError(std::string(i.name) + ": operands " + std::to_string(args[0]) + ".." + std::to_string(args[k]) +
+                    " are in different formats (convert one with cvt)");
+    fmt = w;
+  }
+  n.wide = fmt == 1;
+  if (op == Op::Cvt) {
+    if (!has_wide()) throw IrError("cvt: the graph has no wide format (a 'wide DE DM' line first)");
+    n.wide = !n.wide;
+  }
   nodes_.push_back(n);
+  if (n.wide) ++wide_nodes_;
   return static_cast<int>(nodes_.size()) - 1;
+}
+
+void Graph::set_wide(int de, int dm) {
+  if (!nodes_.empty()) throw IrError("wide: before any node");
+  if (de < 0 || dm < 0 || (de == 0 && dm == 0))
+    throw IrError("wide: " + std::to_string(de) + " " + std::to_string(dm) +
+                  ": exponent and fraction bits to add, each >= 0, not both 0");
+  wide_de_ = de, wide_dm_ = dm;
+}
+
+num::Format Graph::wide_format(const num::Format& f) const {
+  num::Format w = f;
+  w.exp_bits += wide_de_;
+  w.frac_bits += wide_dm_;
+  if (w.exp_bits > num::Format::kMaxExp || w.frac_bits > num::Format::kMaxFrac)
+    throw IrError("wide format of " + f.name() + " widened by " + std::to_string(wide_de_) + " " +
+                  std::to_string(wide_dm_) + " is e" + std::to_string(w.exp_bits) + "m" +
+                  std::to_string(w.frac_bits) + ": beyond e" + std::to_string(num::Format::kMaxExp) + "m" +
+                  std::to_string(num::Format::kMaxFrac));
+  return w;
 }
 
 int Graph::input(const std::string& name) {
@@ -93,12 +131,15 @@ int Graph::input(const std::string& name) {
   return input_nodes_.back();
 }
 
-int Graph::constant(double v) {
+int Graph::constant(double v, bool wide) {
   if (std::isnan(v)) throw IrError("const: value must be a number or +-inf");
+  if (wide && !has_wide()) throw IrError("const: a wide constant in a graph without a wide format");
   Node n;
   n.op = Op::Const;
   n.value = v;
+  n.wide = wide;
   nodes_.push_back(n);
+  if (wide) ++wide_nodes_;
   return static_cast<int>(nodes_.size()) - 1;
 }
 
@@ -132,12 +173,14 @@ int Graph::output_node(const std::string& name) const {
 std::map<std::string, int> Graph::op_counts() const {
   std::map<std::string, int> c;
   for (const Node& n : nodes_) {
+    const std::string w = n.wide ? "_w" : "";  // an FP unit of the wide format
     switch (n.op) {
-      case Op::Add: case Op::Sub: ++c["add"]; break;
-      case Op::Mul: ++c["mul"]; break;
-      case Op::Div: ++c["div"]; break;
-      case Op::Fma: ++c["fma"]; break;
-      case Op::Lt: case Op::Gt: case Op::Le: case Op::Ge: case Op::Eq: case Op::Min: case Op::Max: ++c["cmp"]; break;
+      case Op::Add: case Op::Sub: ++c["add" + w]; break;
+      case Op::Mul: ++c["mul" + w]; break;
+      case Op::Div: ++c["div" + w]; break;
+      case Op::Fma: ++c["fma" + w]; break;
+      case Op::Cvt: ++c[n.wide ? "cvt_up" : "cvt_down"]; break;
+      case Op::Lt: case Op::Gt: case Op::Le: case Op::Ge: case Op::Eq: case Op::Min: case Op::Max: ++c["cmp" + w]; break;
       case Op::Select: ++c["select"]; break;
       case Op::And: case Op::Or: case Op::Not: ++c["gate"]; break;
       case Op::IsNan: case Op::IsInf: ++c["bittest"]; break;
@@ -155,10 +198,7 @@ int Graph::fp_depth() const {
     int m = 0;
     for (int x : {n.a, n.b, n.c})
       if (x >= 0) m = std::max(m, d[x]);
-    const bool unit = n.op == Op::Add || n.op == Op::Sub || n.op == Op::Mul || n.op == Op::Div || n.op == Op::Fma ||
-                      n.op == Op::Min || n.op == Op::Max || n.op == Op::Lt || n.op == Op::Gt || n.op == Op::Le ||
-                      n.op == Op::Ge || n.op == Op::Eq;
-    d[i] = m + (unit ? 1 : 0);
+    d[i] = m + (*op_unit(n.op) ? 1 : 0);
   }
   for (const auto& o : outputs_) best = std::max(best, d[o.second]);
   return best;
@@ -166,6 +206,7 @@ int Graph::fp_depth() const {
 
 std::string Graph::print() const {
   std::ostringstream s;
+  if (has_wide()) s << "wide " << wide_de_ << " " << wide_dm_ << "\n";
   for (size_t i = 0; i < nodes_.size(); ++i) {
     const Node& n = nodes_[i];
     switch (n.op) {
@@ -173,7 +214,7 @@ std::string Graph::print() const {
       case Op::Const: {
         char buf[40];
         std::snprintf(buf, sizeof buf, "%.17g", n.value);
-        s << "const " << buf;
+        s << "const " << buf << (n.wide ? " w" : "");
         break;
       }
       case Op::BConst: s << (n.value != 0 ? "true" : "false"); break;
@@ -231,7 +272,14 @@ Graph Graph::parse(const std::string& text) {
           used = 0;
         }
         if (used != t.size()) fail("const: '" + t + "' is not a number");
-        g.constant(v);
+        std::string w;
+        const bool wide = static_cast<bool>(ls >> w);
+        if (wide && w != "w") fail("const: '" + w + "' after the value (only 'w', a wide constant)");
+        g.constant(v, wide);
+      } else if (word == "wide") {
+        int de = 0, dm = 0;
+        if (!(ls >> de >> dm)) fail("wide: needs two numbers, exponent and fraction bits to add (e.g. wide 1 7)");
+        g.set_wide(de, dm);
       } else if (word == "true" || word == "false") {
         g.boolean(word == "true");
       } else if (word == "out") {
@@ -245,7 +293,7 @@ Graph Graph::parse(const std::string& text) {
         if (!op)
           fail("unknown operation '" + word +
                "' (in const true false add sub mul div fma neg abs min max sel lt gt le ge eq and or not sgn nan inf "
-               "out)");
+               "cvt wide out)");
         int args[3] = {-1, -1, -1};
         for (int k = 0; k < op->arity; ++k) args[k] = number("operand");
         const int id = g.node(op->op, args[0], args[1], args[2]);
@@ -327,6 +375,7 @@ ExactValues evaluate_exact(const Graph& g, const std::vector<double>& in) {
       case Op::Not: r.b[i] = !r.b[n.a]; break;
       case Op::SignBit: r.b[i] = sgn(*A) < 0; break;
       case Op::IsNan: case Op::IsInf: r.b[i] = false; break;
+      case Op::Cvt: r.q[i] = *A; break;  // exact: a conversion changes nothing
     }
   }
   return r;

@@ -20,11 +20,21 @@
 // trailing rne/rtz/rdn/rup): the directed roundings of a conservative unit. Without one it
 // rounds as the format does.
 //
+// Mixed precision: a graph may have a second, wide format, the unit's format widened by DE
+// exponent and DM fraction bits (set_wide; the text form's `wide DE DM` line): a cvt node converts
+// its operand into the other format (ru_fp_cvt f2f, one rounding with the format's mode and
+// subnormal handling), and every other node computes in the format of its FP operands (Node::wide,
+// derived as nodes are built: operands in different formats are an error). Inputs are in the
+// unit's format, a constant in either (`const V w`), outputs whatever their node is (an FP output
+// of a wide node is W' bits wide). Evaluating a graph with wide nodes needs Soft (its wide format
+// is the thread's format widened); the exact evaluator treats cvt as the identity.
+//
 // Text form (print / parse, one node per line, '#' comments):
 //   in NAME            const VALUE          add A B     sub A B     mul A B     div A B
 //   fma A B C          neg A                abs A       min A B     max A B     sel P A B
 //   lt A B   gt A B    le A B   ge A B      eq A B      and P Q     or P Q      not P
-//   true | false       out NAME N            sgn A    nan A    inf A
+//   true | false       out NAME N            sgn A    nan A    inf A      cvt A
+//   wide DE DM (before any node)             const VALUE w (a constant of the wide format)
 //   add/sub/mul/div/fma lines may end in a rounding mode: rne rtz rdn rup
 // where A, B, ... are node numbers (0-based, earlier lines' nodes; `out` lines create none).
 #pragma once
@@ -44,6 +54,7 @@ namespace ru::dp {
 enum class Op : uint8_t {
   Input, Const, Add, Sub, Mul, Div, Fma, Neg, Abs, Min, Max, Select,  // FP-valued
   Lt, Gt, Le, Ge, Eq, And, Or, Not, BConst, SignBit, IsNan, IsInf,    // Boolean-valued
+  Cvt,                                                                 // FP-valued: to the other format
 };
 const char* op_name(Op o);
 bool op_is_bool(Op o);  // the node's value is a Boolean
@@ -58,6 +69,7 @@ struct Node {
   double value = 0;            // Const: the value; BConst: 0 or 1
   std::string name;            // Input: its name
   int round = -1;              // add/sub/mul/div/fma: a num::Round of its own, -1 the format's
+  bool wide = false;           // computes in (an FP node: its value is in) the graph's wide format
 };
 bool op_has_round(Op o);  // add, sub, mul, div, fma
 
@@ -70,7 +82,7 @@ class Graph {
  public:
   // Builders: each returns the new node's number and checks operand kinds (FP vs Boolean).
   int input(const std::string& name);
-  int constant(double v);
+  int constant(double v, bool wide = false);
   int boolean(bool v);
   int add(int a, int b) { return node(Op::Add, a, b); }
   int sub(int a, int b) { return node(Op::Sub, a, b); }
@@ -93,6 +105,17 @@ class Graph {
   int signbit(int a) { return node(Op::SignBit, a); }  // the sign bit (also of -0 and NaN)
   int isnan(int a) { return node(Op::IsNan, a); }
   int isinf(int a) { return node(Op::IsInf, a); }
+  int cvt(int a) { return node(Op::Cvt, a); }  // a in the other format (set_wide first)
+  // The wide format is the unit's widened by de exponent and dm fraction bits (each >= 0, not both
+  // 0); before any node is built.
+  void set_wide(int de, int dm);
+  bool has_wide() const { return wide_de_ > 0 || wide_dm_ > 0; }
+  int wide_de() const { return wide_de_; }
+  int wide_dm() const { return wide_dm_; }
+  bool mixed() const { return wide_nodes_ > 0; }  // some node computes in the wide format
+  // f widened by (wide_de, wide_dm), rounding and subnormals as f; throws IrError naming the
+  // formats when the wide one is out of range (E <= 11, M <= 52).
+  num::Format wide_format(const num::Format& f) const;
   // Node n (an add, sub, mul, div or fma) rounds with r, not the format's mode; returns n.
   int rounded(int n, num::Round r);
   int node(Op op, int a = -1, int b = -1, int c = -1);
@@ -120,6 +143,7 @@ class Graph {
   std::vector<std::string> inputs_;
   std::vector<int> input_nodes_;
   std::vector<std::pair<std::string, int>> outputs_;
+  int wide_de_ = 0, wide_dm_ = 0, wide_nodes_ = 0;
 };
 
 // One node's value: FP (v) or Boolean (b).
@@ -163,8 +187,51 @@ inline num::Soft fma_of<num::Soft>(num::Soft a, num::Soft b, num::Soft c) {
 }
 }  // namespace detail
 
+namespace detail {
+// One node's value (not Cvt) in the thread's current format.
+template <class T>
+void evaluate_node(const Node& n, const std::vector<Value<T>>& v, Value<T>& r, const std::vector<T>& in,
+                   size_t& next_in) {
+  using namespace ru::num;
+  auto A = [&] { return v[n.a].v; };
+  auto B = [&] { return v[n.b].v; };
+  if (n.round >= 0) {
+    r.v = detail::rounded_op<T>(n.op, A(), B(), n.c >= 0 ? v[n.c].v : T{}, static_cast<Round>(n.round));
+    return;
+  }
+  switch (n.op) {
+    case Op::Input: r.v = in[next_in++]; break;
+    case Op::Const: r.v = fp_cast<T>(n.value); break;
+    case Op::BConst: r.b = n.value != 0; break;
+    case Op::Add: r.v = A() + B(); break;
+    case Op::Sub: r.v = A() - B(); break;
+    case Op::Mul: r.v = A() * B(); break;
+    case Op::Div: r.v = A() / B(); break;
+    case Op::Fma: r.v = detail::fma_of<T>(A(), B(), v[n.c].v); break;
+    case Op::Neg: r.v = -A(); break;
+    case Op::Abs: r.v = fp_abs(A()); break;
+    case Op::Min: r.v = fp_min(A(), B()); break;
+    case Op::Max: r.v = fp_max(A(), B()); break;
+    case Op::Select: r.v = v[n.a].b ? v[n.b].v : v[n.c].v; break;
+    case Op::Lt: r.b = A() < B(); break;
+    case Op::Gt: r.b = A() > B(); break;
+    case Op::Le: r.b = A() <= B(); break;
+    case Op::Ge: r.b = A() >= B(); break;
+    case Op::Eq: r.b = A() == B(); break;
+    case Op::And: r.b = v[n.a].b && v[n.b].b; break;
+    case Op::Or: r.b = v[n.a].b || v[n.b].b; break;
+    case Op::Not: r.b = !v[n.a].b; break;
+    case Op::SignBit: r.b = fp_signbit(A()); break;
+    case Op::IsNan: r.b = fp_isnan(A()); break;
+    case Op::IsInf: r.b = fp_is_pos_inf(A()) || fp_is_neg_inf(A()); break;
+    case Op::Cvt: throw IrError("evaluate: cvt in a graph without a wide format");
+  }
+}
+}  // namespace detail
+
 // Runs the graph in T (for Soft: in the thread's SoftScope format), one FP operation per node in
-// node order. in: one value per input, in the order of inputs(). Returns every node's value.
+// node order. in: one value per input, in the order of inputs(). Returns every node's value (a
+// wide node's in the wide format: Soft bits of that format).
 template <class T>
 std::vector<Value<T>> evaluate(const Graph& g, const std::vector<T>& in) {
   using namespace ru::num;
@@ -174,41 +241,31 @@ std::vector<Value<T>> evaluate(const Graph& g, const std::vector<T>& in) {
   const auto& ns = g.nodes();
   std::vector<Value<T>> v(ns.size());
   size_t next_in = 0;
+  Format narrow{}, wide{};
+  if (g.mixed()) {
+    if constexpr (!std::is_same_v<T, Soft>) {
+      throw IrError("evaluate: a mixed-precision graph runs in Soft (its wide format is the unit's widened)");
+    } else {
+      narrow = soft_format();
+      wide = g.wide_format(narrow);
+    }
+  }
   for (size_t i = 0; i < ns.size(); ++i) {
     const Node& n = ns[i];
     Value<T>& r = v[i];
-    auto A = [&] { return v[n.a].v; };
-    auto B = [&] { return v[n.b].v; };
-    if (n.round >= 0) {
-      r.v = detail::rounded_op<T>(n.op, A(), B(), n.c >= 0 ? v[n.c].v : T{}, static_cast<Round>(n.round));
-      continue;
+    if constexpr (std::is_same_v<T, Soft>) {
+      if (n.op == Op::Cvt) {  // into this node's format from the other one
+        SoftFormatSwitch to(n.wide ? wide : narrow);
+        r.v = Soft::wrap(num::convert(n.wide ? wide : narrow, n.wide ? narrow : wide, v[n.a].v.bits));
+        continue;
+      }
+      if (n.wide) {
+        SoftFormatSwitch in_wide(wide);
+        detail::evaluate_node(n, v, r, in, next_in);
+        continue;
+      }
     }
-    switch (n.op) {
-      case Op::Input: r.v = in[next_in++]; break;
-      case Op::Const: r.v = fp_cast<T>(n.value); break;
-      case Op::BConst: r.b = n.value != 0; break;
-      case Op::Add: r.v = A() + B(); break;
-      case Op::Sub: r.v = A() - B(); break;
-      case Op::Mul: r.v = A() * B(); break;
-      case Op::Div: r.v = A() / B(); break;
-      case Op::Fma: r.v = detail::fma_of<T>(A(), B(), v[n.c].v); break;
-      case Op::Neg: r.v = -A(); break;
-      case Op::Abs: r.v = fp_abs(A()); break;
-      case Op::Min: r.v = fp_min(A(), B()); break;
-      case Op::Max: r.v = fp_max(A(), B()); break;
-      case Op::Select: r.v = v[n.a].b ? v[n.b].v : v[n.c].v; break;
-      case Op::Lt: r.b = A() < B(); break;
-      case Op::Gt: r.b = A() > B(); break;
-      case Op::Le: r.b = A() <= B(); break;
-      case Op::Ge: r.b = A() >= B(); break;
-      case Op::Eq: r.b = A() == B(); break;
-      case Op::And: r.b = v[n.a].b && v[n.b].b; break;
-      case Op::Or: r.b = v[n.a].b || v[n.b].b; break;
-      case Op::Not: r.b = !v[n.a].b; break;
-      case Op::SignBit: r.b = fp_signbit(A()); break;
-      case Op::IsNan: r.b = fp_isnan(A()); break;
-      case Op::IsInf: r.b = fp_is_pos_inf(A()) || fp_is_neg_inf(A()); break;
-    }
+    detail::evaluate_node(n, v, r, in, next_in);
   }
   return v;
 }

@@ -92,6 +92,20 @@ class SoftScope {
   detail::SoftEnv saved_;
 };
 
+// Switches the thread's Soft format for a part of one computation and keeps the flag statistics
+// (a mixed-precision evaluation: dp::evaluate runs a graph's wide nodes in its wide format); the
+// previous format comes back when the scope ends. f must be valid (not checked here: hot path).
+class SoftFormatSwitch {
+ public:
+  explicit SoftFormatSwitch(const Format& f) : saved_(detail::soft_env.fmt) { detail::soft_env.fmt = f; }
+  ~SoftFormatSwitch() { detail::soft_env.fmt = saved_; }
+  SoftFormatSwitch(const SoftFormatSwitch&) = delete;
+  SoftFormatSwitch& operator=(const SoftFormatSwitch&) = delete;
+
+ private:
+  Format saved_;
+};
+
 class Soft {
  public:
   uint64_t bits = 0;  // +0
