@@ -69,7 +69,8 @@ std::vector<TriGenome> all_canonical_genomes() {
   std::set<std::string> seen;
   std::vector<int> v(kTriGenes, 0);
   for (;;) {
-    const TriGenome g = canonical(tri_genome(v));
+    TriGenome g = canonical(tri_genome(v));
+    g.wide_de = 1, g.wide_dm = 7;  // mixed precision (the wide gene): e.g. e7m16 with e8m23 inside
     if (seen.insert(genome_name(g)).second) out.push_back(g);
     int i = 0;
     while (i < kTriGenes && ++v[i] == kTriGeneCount[i]) v[i++] = 0;
@@ -81,7 +82,8 @@ std::vector<TriGenome> all_canonical_genomes() {
 TEST(SearchGenome, EveryGenomeIsTheExactReferenceFunction) {
   const auto gs = all_canonical_genomes();
   // (form x origin (form 3: none), denom, va, ... + Moller-Trumbore's q, i, p) x the three fuse values
-  EXPECT_EQ(gs.size(), 3u * (10u * 4 * 4 * 2 * 2 * 2 * 3 + 2 * 2 * 3));
+  // x the four wide values
+  EXPECT_EQ(gs.size(), 4u * 3u * (10u * 4 * 4 * 2 * 2 * 2 * 3 + 2 * 2 * 3));
   const auto recs = records(5, 2);
   for (const auto& g : gs) ASSERT_EQ(exact_mismatches(tri_graph(g), recs), 0) << genome_name(g);
 }
@@ -113,6 +115,61 @@ TEST(SearchGenome, NamesRoundTripAndBadNamesAreOneLineErrors) {
     }
   }
   EXPECT_THROW(start_genome("best"), IrError);
+}
+
+// The wide gene (mixed precision): where the conversions go, counted by hand from Fig. 3.6's
+// dataflow (four cross products: 6 mul + 3 sub each; five dot products: 3 mul + 2 add each).
+TEST(SearchGenome, MixedGenomesConvertWhereTheGeneSays) {
+  auto ops = [](const std::string& name) {
+    TriGenome g = parse_genome_name(name);
+    g.wide_de = 1, g.wide_dm = 7;
+    return tri_graph(g).op_counts();
+  };
+  // w1: the dot products wide; up: the four cross products' 12 components, the three edges' 9, d's 3
+  // and p2 - a's 3 (Va); down: V0, V1, V2, V, Va
+  auto w1 = ops("sv-f0-o0-d0-a0-q0-i0-t0-p0-w1");
+  EXPECT_EQ(w1["mul_w"], 15);
+  EXPECT_EQ(w1["add_w"], 10);
+  EXPECT_EQ(w1["mul"], 24);
+  EXPECT_EQ(w1["add"], 43 - 10);
+  EXPECT_EQ(w1["cvt_up"], 12 + 9 + 3 + 3);
+  EXPECT_EQ(w1["cvt_down"], 5);
+  // w2: the cross products too; up: the three selected a - m_i (9), d (3), the edges (9), p2 - a (3)
+  auto w2 = ops("sv-f0-o0-d0-a0-q0-i0-t0-p0-w2");
+  EXPECT_EQ(w2["mul_w"], 39);
+  EXPECT_EQ(w2.count("mul"), 0u);
+  EXPECT_EQ(w2["add_w"], 10 + 12);
+  EXPECT_EQ(w2["add"], 43 - 22);
+  EXPECT_EQ(w2["cvt_up"], 9 + 3 + 9 + 3);
+  EXPECT_EQ(w2["cvt_down"], 5);
+  EXPECT_EQ(w2["div"], 3);
+  // w3: every input up (17), every FP output down (t, beta, gamma, V, Va, V0, V1, V2), nothing narrow
+  auto w3 = ops("sv-f0-o0-d0-a0-q0-i0-t0-p0-w3");
+  EXPECT_EQ(w3["cvt_up"], 17);
+  EXPECT_EQ(w3["cvt_down"], 8);
+  EXPECT_EQ(w3["add_w"], 43);
+  EXPECT_EQ(w3["div_w"], 3);
+  for (const char* k : {"add", "mul", "div", "cmp"}) EXPECT_EQ(w3.count(k), 0u) << k;
+  // Moller-Trumbore w1: four dot products (V, V1, V2, Va), down four
+  auto mt1 = ops("mt-q1-i0-p0-w1");
+  EXPECT_EQ(mt1["mul_w"], 12);
+  EXPECT_EQ(mt1["cvt_down"], 4);
+  // names, records, and the wide format required
+  TriGenome g = fig36_genome();
+  g.wide = 2;
+  g.fuse = 1;
+  EXPECT_EQ(genome_name(g), "sv-f0-o0-d0-a0-q0-i0-t0-p0-u1-w2");
+  EXPECT_EQ(genes_record(g).size(), 11u);
+  EXPECT_EQ(genome_name(parse_genome_name("sv-f0-o0-d0-a0-q0-i0-t0-p0-w2")), "sv-f0-o0-d0-a0-q0-i0-t0-p0-w2");
+  EXPECT_EQ(genes_record(parse_genome_name("mt-q1-i0-p0-w3")).size(), 11u);
+  for (const char* bad : {"sv-f0-o0-d0-a0-q0-i0-t0-p0-w0", "sv-f0-o0-d0-a0-q0-i0-t0-p0-w4", "mt-q1-i0-p0-w1-u1"})
+    EXPECT_THROW(parse_genome_name(bad), IrError) << bad;
+  try {
+    tri_graph(parse_genome_name("mt-q1-i0-p0-w1"));
+    ADD_FAILURE() << "a mixed genome without a wide format accepted";
+  } catch (const IrError& e) {
+    EXPECT_STREQ(e.what(), "genome mt-q1-i0-p0-w1: mixed precision needs the wide format (rayunits search tri --mixed)");
+  }
 }
 
 // The fuse gene (fused multiply-adds): counted by hand from the dataflow, names of unfused genomes

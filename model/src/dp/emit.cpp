@@ -17,13 +17,17 @@ bool is_unit(Op o) { return *op_unit(o) != '\0'; }
 // characterized cell row. A level holding an fma is weighed as a multiplier level (the fma's
 // product tree is that level's depth, its add-normalize-round tail is not counted) and the fma
 // instance places its lat(k) registers itself (automatic placement).
+// A conversion (ru_fp_cvt: unpack, normalize, round-and-pack) asks for KAdd, the kind whose
+// segments it resembles, for the same reason. The level kinds are those of the unit's format: a
+// level of wide operations is weighed by their kinds at the unit's widths, and the wide instances
+// and conversions place their lat(k) registers themselves (their segments are not the level's).
 int kind_of(Op o) {
   const std::string u = op_unit(o);
-  return u == "fp_add" ? 0 : u == "fp_mul" || u == "fp_fma" ? 1 : u == "fp_div" ? 2 : 3;
+  return u == "fp_add" || u == "fp_cvt" ? 0 : u == "fp_mul" || u == "fp_fma" ? 1 : u == "fp_div" ? 2 : 3;
 }
 const char* unit_module(Op o) {
   const std::string u = op_unit(o);
-  return u == "fp_add" ? "ru_fp_add" : u == "fp_mul" ? "ru_fp_mul" : u == "fp_div" ? "ru_fp_div" : u == "fp_fma" ? "ru_fp_fma" : "ru_fp_cmp";
+  return u == "fp_add" ? "ru_fp_add" : u == "fp_mul" ? "ru_fp_mul" : u == "fp_div" ? "ru_fp_div" : u == "fp_fma" ? "ru_fp_fma" : u == "fp_cvt" ? "ru_fp_cvt" : "ru_fp_cmp";
 }
 // The unit whose segments a level kind describes (its instances take the level's cut selection).
 const char* kind_unit(int k) { return k == 0 ? "fp_add" : k == 1 ? "fp_mul" : k == 2 ? "fp_div" : "fp_cmp"; }
@@ -78,7 +82,10 @@ std::vector<std::string> emit_sources() {
 
 std::vector<std::string> emit_sources(const Graph& g) {
   std::vector<std::string> s = emit_sources();
-  if (g.op_counts().count("fma")) s.push_back("ru_fp_fma.sv");
+  bool fma = false, cvt = false;
+  for (const Node& n : g.nodes()) fma |= n.op == Op::Fma, cvt |= n.op == Op::Cvt;
+  if (fma) s.push_back("ru_fp_fma.sv");
+  if (cvt) s.push_back("ru_fp_cvt.sv");
   return s;
 }
 
@@ -101,9 +108,17 @@ std::string emit_sv(const Graph& g, const std::string& module, const std::string
     if (in.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_") != std::string::npos)
       throw IrError("emit: input name '" + in + "' is not a Verilog identifier");
 
+  for (const auto& o : g.outputs())
+    if (ns[o.second].wide && !op_is_bool(ns[o.second].op))
+      throw IrError("emit: output '" + o.first + "' is a value of the wide format (convert it with cvt)");
+
   std::ostringstream h, b;  // header, body
-  auto wid = [&](int n) { return op_is_bool(ns[n].op) ? std::string("1") : std::string("W"); };
-  auto decl = [&](int n) { return op_is_bool(ns[n].op) ? std::string("logic ") : std::string("logic [W-1:0] "); };
+  // Names of a node's format in the emitted module: the unit's (W, ExpW, FracW) or the wide one's.
+  auto Wn = [&](int n) { return std::string(ns[n].wide ? "WW" : "W"); };
+  auto En = [&](int n) { return std::string(ns[n].wide ? "WExpW" : "ExpW"); };
+  auto Fn = [&](int n) { return std::string(ns[n].wide ? "WFracW" : "FracW"); };
+  auto wid = [&](int n) { return op_is_bool(ns[n].op) ? std::string("1") : Wn(n); };
+  auto decl = [&](int n) { return op_is_bool(ns[n].op) ? std::string("logic ") : "logic [" + Wn(n) + "-1:0] "; };
   auto sig = [](int n) { return "n" + std::to_string(n); };
 
   // delay lines: (node, level) -> signal name of the node's value at that level
@@ -127,13 +142,20 @@ std::string emit_sv(const Graph& g, const std::string& module, const std::string
     << (origin.empty() ? std::string() : "// origin: " + origin + "\n") << "// " << L.nlev << " levels; register placement by the level chain (rtl/ru_level_chain.svh).\n"
     << "module " << module << " #(\n"
     << "  parameter int unsigned ExpW = 8,\n  parameter int unsigned FracW = 23,\n  parameter int unsigned Stages = 0,\n"
-    << "  parameter int unsigned Subnormals = 1,\n  parameter int unsigned Round = 0\n) (\n"
+    << "  parameter int unsigned Subnormals = 1,\n  parameter int unsigned Round = 0"
+    << (g.has_wide() ? ",\n  // the wide format of the mixed-precision nodes (the graph's `wide " + std::to_string(g.wide_de()) + " " +
+                           std::to_string(g.wide_dm()) + "`)\n  parameter int unsigned WExpW = ExpW + " +
+                           std::to_string(g.wide_de()) + ",\n  parameter int unsigned WFracW = FracW + " +
+                           std::to_string(g.wide_dm())
+                     : std::string())
+    << "\n) (\n"
     << "  input  logic clk_i,\n  input  logic rst_ni,\n  input  logic in_valid_i,\n";
   for (const auto& in : g.inputs()) h << "  input  logic [ExpW+FracW:0] " << in << "_i,\n";
   h << "  output logic out_valid_o";
   for (const auto& o : g.outputs())
     h << ",\n  output logic " << (op_is_bool(ns[o.second].op) ? "" : "[ExpW+FracW:0] ") << o.first << "_o";
-  h << "\n);\n\n  localparam int unsigned W = 1 + ExpW + FracW;\n  localparam int unsigned NLev = " << L.nlev
+  h << "\n);\n\n  localparam int unsigned W = 1 + ExpW + FracW;\n"
+    << (g.has_wide() ? "  localparam int unsigned WW = 1 + WExpW + WFracW;\n" : "") << "  localparam int unsigned NLev = " << L.nlev
     << ";\n  localparam logic [4*ru_pipe_pkg::MaxLev-1:0] Kinds = {";
   if (L.nlev < kMaxLev) h << (4 * (kMaxLev - L.nlev)) << "'d0, ";
   for (int k = L.nlev - 1; k >= 0; --k) h << "ru_fp_pkg::" << kind_name(L.kind[k]) << (k ? ", " : "");
@@ -150,19 +172,20 @@ std::string emit_sv(const Graph& g, const std::string& module, const std::string
       b << "  assign " << s << " = " << g.inputs()[next_in++] << "_i;\n";
     } else if (n.op == Op::Const) {
       const double v = n.value;
+      const std::string E = En(id), F = Fn(id);
       if (v == 0) {
         b << "  assign " << s << " = '0;\n";
       } else if (std::isinf(v)) {
-        b << "  assign " << s << " = {1'b" << (v < 0 ? 1 : 0) << ", {ExpW{1'b1}}, FracW'(0)};\n";
+        b << "  assign " << s << " = {1'b" << (v < 0 ? 1 : 0) << ", {" << E << "{1'b1}}, " << F << "'(0)};\n";
       } else {
         int e = 0;
         const double m = std::frexp(std::fabs(v), &e);  // |v| = m 2^e, m in [0.5, 1)
         if (m != 0.5) throw IrError("emit: constant " + std::to_string(v) + " is not 0, +-inf or +-2^k");
         const int k = e - 1;
-        b << "  assign " << s << " = {1'b" << (v < 0 ? 1 : 0) << ", ExpW'((1 << (ExpW - 1)) - 1 + (" << k
-          << ")), FracW'(0)};\n"
-          << "  if ((1 << (ExpW - 1)) - 1 + (" << k << ") < 1 || (1 << (ExpW - 1)) - 1 + (" << k
-          << ") > (1 << ExpW) - 2) begin : gen_const_" << id << "\n    $error(\"constant 2^" << k
+        b << "  assign " << s << " = {1'b" << (v < 0 ? 1 : 0) << ", " << E << "'((1 << (" << E << " - 1)) - 1 + (" << k
+          << ")), " << F << "'(0)};\n"
+          << "  if ((1 << (" << E << " - 1)) - 1 + (" << k << ") < 1 || (1 << (" << E << " - 1)) - 1 + (" << k
+          << ") > (1 << " << E << ") - 2) begin : gen_const_" << id << "\n    $error(\"constant 2^" << k
           << " is not a normal number of the format\");\n  end\n";
       }
     } else if (n.op == Op::BConst) {
@@ -170,10 +193,11 @@ std::string emit_sv(const Graph& g, const std::string& module, const std::string
     } else if (is_unit(n.op)) {
       const int lev = L.level[id];
       const int k = kind_of(n.op);
-      const std::string A = value_at(n.a, lev), B = value_at(n.b, lev);
+      const std::string A = value_at(n.a, lev), B = n.b >= 0 ? value_at(n.b, lev) : "";
       const std::string C = n.op == Op::Fma ? value_at(n.c, lev) : "";
       const char* mod = unit_module(n.op);
-      const bool lcut = k == L.kind[lev] && std::string(op_unit(n.op)) == kind_unit(k);
+      // the level's cut selection describes a unit of the unit's format of the level's kind
+      const bool lcut = !n.wide && k == L.kind[lev] && std::string(op_unit(n.op)) == kind_unit(k);
       std::string a = A, bb = B, op;
       switch (n.op) {
         case Op::Add: op = "1'b0"; break;
@@ -190,8 +214,19 @@ std::string emit_sv(const Graph& g, const std::string& module, const std::string
       }
       const bool bool_out = op_is_bool(n.op);
       if (bool_out)  // a comparison's result is bit 0 of y_o
-        b << "  /* verilator lint_off UNUSEDSIGNAL */ logic [W-1:0] " << s << "_y; /* verilator lint_on UNUSEDSIGNAL */\n";
-      b << "  " << mod << " #(.ExpW(ExpW), .FracW(FracW), .Stages(lat(" << lev
+        b << "  /* verilator lint_off UNUSEDSIGNAL */ logic [" << Wn(id) << "-1:0] " << s << "_y; /* verilator lint_on UNUSEDSIGNAL */\n";
+      if (n.op == Op::Cvt) {
+        // f2f into this node's format from the other one (IntW 2: the integer ports stay narrow)
+        const std::string from_e = n.wide ? "ExpW" : "WExpW", from_f = n.wide ? "FracW" : "WFracW";
+        b << "  ru_fp_cvt #(.ExpW(" << En(id) << "), .FracW(" << Fn(id) << "), .Stages(lat(" << lev
+          << ")), .Subnormals(Subnormals), .Round(Round), .InExpW(" << from_e << "), .InFracW(" << from_f
+          << "), .InSubnormals(Subnormals), .IntW(2)) u_" << s << " (\n    .clk_i, .rst_ni, .in_valid_i(1'b1), .a_i("
+          << (n.wide ? "{{(WW-W){1'b0}}, " + A + "}" : A) << "), .op_i(2'd0),\n    .out_valid_o(unused_valid["
+          << nunits << "]), .y_o(" << s << "), .flags_o(unused_flags[" << 5 * nunits << " +: 5]));\n";
+        ++nunits;
+        continue;
+      }
+      b << "  " << mod << " #(.ExpW(" << En(id) << "), .FracW(" << Fn(id) << "), .Stages(lat(" << lev
         << ")), .Subnormals(Subnormals), .Round(" << (n.round >= 0 ? std::to_string(n.round) : std::string("Round")) << ")" << (lcut ? ", .CutSel(lcut(" + std::to_string(lev) + "))" : "")
         << ") u_" << s << " (\n    .clk_i, .rst_ni, .in_valid_i(1'b1), .a_i(" << a << "), .b_i(" << bb << ")"
         << (n.op == Op::Fma ? ", .c_i(" + C + ")" : "")
@@ -202,19 +237,21 @@ std::string emit_sv(const Graph& g, const std::string& module, const std::string
     } else {
       const int r = L.ready[id];
       auto v = [&](int x) { return value_at(x, r); };
+      // the operand's format (neg, abs and the bit tests)
+      const std::string W = n.a >= 0 ? Wn(n.a) : "W", F = n.a >= 0 ? Fn(n.a) : "FracW";
       switch (n.op) {
-        case Op::Neg: b << "  assign " << s << " = {~" << v(n.a) << "[W-1], " << v(n.a) << "[W-2:0]};\n"; break;
-        case Op::Abs: b << "  assign " << s << " = {1'b0, " << v(n.a) << "[W-2:0]};\n"; break;
+        case Op::Neg: b << "  assign " << s << " = {~" << v(n.a) << "[" << W << "-1], " << v(n.a) << "[" << W << "-2:0]};\n"; break;
+        case Op::Abs: b << "  assign " << s << " = {1'b0, " << v(n.a) << "[" << W << "-2:0]};\n"; break;
         case Op::Select: b << "  assign " << s << " = " << v(n.a) << " ? " << v(n.b) << " : " << v(n.c) << ";\n"; break;
         case Op::And: b << "  assign " << s << " = " << v(n.a) << " & " << v(n.b) << ";\n"; break;
         case Op::Or: b << "  assign " << s << " = " << v(n.a) << " | " << v(n.b) << ";\n"; break;
         case Op::Not: b << "  assign " << s << " = ~" << v(n.a) << ";\n"; break;
-        case Op::SignBit: b << "  assign " << s << " = " << v(n.a) << "[W-1];\n"; break;
+        case Op::SignBit: b << "  assign " << s << " = " << v(n.a) << "[" << W << "-1];\n"; break;
         case Op::IsNan:
-          b << "  assign " << s << " = (&" << v(n.a) << "[W-2:FracW]) & (|" << v(n.a) << "[FracW-1:0]);\n";
+          b << "  assign " << s << " = (&" << v(n.a) << "[" << W << "-2:" << F << "]) & (|" << v(n.a) << "[" << F << "-1:0]);\n";
           break;
         case Op::IsInf:
-          b << "  assign " << s << " = (&" << v(n.a) << "[W-2:FracW]) & ~(|" << v(n.a) << "[FracW-1:0]);\n";
+          b << "  assign " << s << " = (&" << v(n.a) << "[" << W << "-2:" << F << "]) & ~(|" << v(n.a) << "[" << F << "-1:0]);\n";
           break;
         default: throw IrError(std::string("emit: unexpected ") + op_name(n.op));
       }

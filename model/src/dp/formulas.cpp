@@ -12,11 +12,36 @@ struct V3 {
   int x, y, z;
 };
 
+// Mixed precision (TriGenome::wide): where values move into the graph's wide format and back. A
+// value is converted once (a cvt node per value and direction, shared by its users); with mode 0
+// nothing is converted and the graphs are node for node those before the gene existed.
+struct Prec {
+  Graph* g = nullptr;
+  int mode = 0;  // TriGenome::wide
+  std::map<int, int> up_, down_;
+  int up(int x) {
+    if (g->nodes()[x].wide) return x;
+    const auto it = up_.find(x);
+    return it != up_.end() ? it->second : up_[x] = g->cvt(x);
+  }
+  int down(int x) {
+    if (!g->nodes()[x].wide || op_is_bool(g->nodes()[x].op)) return x;
+    const auto it = down_.find(x);
+    return it != down_.end() ? it->second : down_[x] = g->cvt(x);
+  }
+  V3 up(V3 v) {
+    const int x = up(v.x), y = up(v.y);
+    return {x, y, up(v.z)};
+  }
+};
+
 // The vec.hpp operation orders (docs/UNITS.md "Dataflow").
 V3 vsub(Graph& g, V3 u, V3 v) { return {g.sub(u.x, v.x), g.sub(u.y, v.y), g.sub(u.z, v.z)}; }
 // u x v; fused (TriGenome::fuse 2): each component as one fma on the second product's negation,
 // u_y v_z - u_z v_y = fma(u_y, v_z, -(u_z v_y)) (one rounding of the difference and the first product).
-V3 cross(Graph& g, V3 u, V3 v, bool fused = false) {
+// Mixed precision 2 (P->mode): the operands converted up, the product stays wide.
+V3 cross(Graph& g, V3 u, V3 v, bool fused = false, Prec* P = nullptr) {
+  if (P && P->mode == 2) u = P->up(u), v = P->up(v);
   auto comp = [&](int a, int b, int c, int d) {  // a b - c d
     if (fused) return g.fma(a, b, g.neg(g.mul(c, d)));
     return g.sub(g.mul(a, b), g.mul(c, d));
@@ -31,7 +56,15 @@ V3 cross(Graph& g, V3 u, V3 v, bool fused = false) {
 // has, rtl/ru_dp_*.sv.) Fused (TriGenome::fuse >= 1): the same association as a chain of fmas on
 // the one product that is added first: (xx + yy) + zz = fma(z, z', fma(x, x', yy)),
 // xx + (yy + zz) = fma(x, x', fma(y, y', zz)), (xx + zz) + yy = fma(y, y', fma(x, x', zz)).
-int dot(Graph& g, V3 u, V3 v, int assoc = 0, bool fused = false) {
+// Mixed precision 1 and 2 (P->mode): computed in the wide format from operands converted up, the
+// result rounded back; 3: everything is wide already, the result stays wide.
+int dot_in(Graph& g, V3 u, V3 v, int assoc, bool fused);
+int dot(Graph& g, V3 u, V3 v, int assoc = 0, bool fused = false, Prec* P = nullptr) {
+  if (!P || P->mode == 0 || P->mode == 3) return dot_in(g, u, v, assoc, fused);
+  u = P->up(u), v = P->up(v);
+  return P->down(dot_in(g, u, v, assoc, fused));
+}
+int dot_in(Graph& g, V3 u, V3 v, int assoc, bool fused) {
   if (fused) {
     if (assoc == 1) return g.fma(u.x, v.x, g.fma(u.y, v.y, g.mul(u.z, v.z)));
     if (assoc == 2) return g.fma(u.y, v.y, g.fma(u.x, v.x, g.mul(u.z, v.z)));
@@ -84,8 +117,11 @@ TriInputs tri_inputs(Graph& g) {
 
 // The common tail of the triangle graphs: hit = accept & in_range, and the outputs in the order
 // every triangle design has them (V0 only when the design computes it, v0 >= 0).
-void tri_outputs(Graph& g, int accept, int in_range, int t, int beta, int gamma, int V, int Va, int v0, int V1,
-                 int V2) {
+void tri_outputs(Graph& g, Prec& P, int accept, int in_range, int t, int beta, int gamma, int V, int Va, int v0,
+                 int V1, int V2) {
+  // outputs in the unit's format (mixed precision 3: each rounded back once)
+  for (int* x : {&t, &beta, &gamma, &V, &Va, &v0, &V1, &V2})
+    if (*x >= 0) *x = P.down(*x);
   g.output("hit", g.land(accept, in_range));
   g.output("t", t);
   g.output("beta", beta);
@@ -113,7 +149,7 @@ int in_range(Graph& g, const TriInputs& in, int interval, int t, int V, int Va, 
 std::array<int, 3> divide(Graph& g, int how, int V, std::array<int, 3> num, int one = -1) {
   std::array<int, 3> q{};
   if (how == 1) {
-    const int inv = g.div(one >= 0 ? one : g.constant(1.0), V);
+    const int inv = g.div(one >= 0 ? one : g.constant(1.0, g.nodes()[V].wide), V);
     for (int k = 0; k < 3; ++k) q[k] = g.mul(num[k], inv);
   } else {
     for (int k = 0; k < 3; ++k) q[k] = g.div(num[k], V);
@@ -121,9 +157,33 @@ std::array<int, 3> divide(Graph& g, int how, int V, std::array<int, 3> num, int 
   return q;
 }
 
-Graph signed_volume_graph(const TriGenome& G) {
+// The graph of a genome starts here: the wide format when the genome has mixed precision, the
+// inputs, and (mixed precision 3) every input converted up.
+Graph start_graph(const TriGenome& G, TriInputs& in) {
   Graph g;
-  const TriInputs in = tri_inputs(g);
+  if (G.wide) {
+    if (G.wide_de <= 0 && G.wide_dm <= 0)
+      throw IrError("genome " + genome_name(G) + ": mixed precision needs the wide format (rayunits search tri --mixed)");
+    g.set_wide(G.wide_de, G.wide_dm);
+  }
+  in = tri_inputs(g);
+  return g;
+}
+void start_prec(Graph& g, const TriGenome& G, TriInputs& in, Prec& P) {
+  P.g = &g;
+  P.mode = G.wide;
+  if (G.wide == 3) {
+    for (V3* v : {&in.a, &in.d, &in.p0, &in.p1, &in.p2}) *v = P.up(*v);
+    in.tmin = P.up(in.tmin);
+    in.tmax = P.up(in.tmax);
+  }
+}
+
+Graph signed_volume_graph(const TriGenome& G) {
+  TriInputs in;
+  Prec P;
+  Graph g = start_graph(G, in);
+  start_prec(g, G, in, P);
   const V3 p[3] = {in.p0, in.p1, in.p2};
   // edge i runs from p_j to p_k, (j, k) = (1, 2), (2, 0), (0, 1): e_i = p_j - p_k as in Fig. 3.6
   // (e0 = p1 - p2), the edge opposite p_i
@@ -154,23 +214,25 @@ Graph signed_volume_graph(const TriGenome& G) {
     for (int i = 0; i < 3; ++i)
       am[i] = G.origin == 0 ? select(g, s[i], ap[J[i]], ap[K[i]]) : G.origin == 1 ? ap[J[i]] : ap[K[i]];
     for (int i = 0; i < 3; ++i) {
-      if (G.edge_form == 0) Vi[i] = dot(g, cross(g, am[i], in.d, G.fuse >= 2), e[i], G.dot, G.fuse >= 1);
-      else if (G.edge_form == 1) Vi[i] = dot(g, cross(g, in.d, e[i], G.fuse >= 2), am[i], G.dot, G.fuse >= 1);
-      else Vi[i] = dot(g, cross(g, e[i], am[i], G.fuse >= 2), in.d, G.dot, G.fuse >= 1);
+      if (G.edge_form == 0) Vi[i] = dot(g, cross(g, am[i], in.d, G.fuse >= 2, &P), e[i], G.dot, G.fuse >= 1, &P);
+      else if (G.edge_form == 1) Vi[i] = dot(g, cross(g, in.d, e[i], G.fuse >= 2, &P), am[i], G.dot, G.fuse >= 1, &P);
+      else Vi[i] = dot(g, cross(g, e[i], am[i], G.fuse >= 2, &P), in.d, G.dot, G.fuse >= 1, &P);
     }
   } else {
     for (int j = 0; j < 3; ++j) p_minus_a(j);
-    for (int i = 0; i < 3; ++i) Vi[i] = dot(g, cross(g, pa[K[i]], pa[J[i]], G.fuse >= 2), in.d, G.dot, G.fuse >= 1);
+    for (int i = 0; i < 3; ++i)
+      Vi[i] = dot(g, cross(g, pa[K[i]], pa[J[i]], G.fuse >= 2, &P), in.d, G.dot, G.fuse >= 1, &P);
   }
   V3 N{};
-  if (need_normal) N = cross(g, e[kPair[npair][0]], e[kPair[npair][1]], G.fuse >= 2);
-  const int V = G.denom < 3 ? dot(g, N, in.d, G.dot, G.fuse >= 1) : g.add(g.add(Vi[0], Vi[1]), Vi[2]);
+  if (need_normal) N = cross(g, e[kPair[npair][0]], e[kPair[npair][1]], G.fuse >= 2, &P);
+  const int V = G.denom < 3 ? dot(g, N, in.d, G.dot, G.fuse >= 1, &P) : g.add(g.add(Vi[0], Vi[1]), Vi[2]);
   // Va = N . (p_k - a) for any vertex k, or the triple product (u1 x u0) . u2 of u_k = p_k - a
   static const int kVaVertex[3] = {2, 0, 1};
-  const int Va = G.va < 3 ? dot(g, N, p_minus_a(kVaVertex[G.va]), G.dot, G.fuse >= 1)
-                          : dot(g, cross(g, p_minus_a(1), p_minus_a(0), G.fuse >= 2), p_minus_a(2), G.dot, G.fuse >= 1);
+  const int Va = G.va < 3 ? dot(g, N, p_minus_a(kVaVertex[G.va]), G.dot, G.fuse >= 1, &P)
+                          : dot(g, cross(g, p_minus_a(1), p_minus_a(0), G.fuse >= 2, &P), p_minus_a(2), G.dot,
+                                G.fuse >= 1, &P);
   const auto [t, beta, gamma] = divide(g, G.divide, V, {Va, Vi[1], Vi[2]});
-  const int zero = g.constant(0.0);
+  const int zero = g.constant(0.0, G.wide == 3);
   const int any_neg = g.lor(g.lor(g.lt(Vi[0], zero), g.lt(Vi[1], zero)), g.lt(Vi[2], zero));
   const int any_pos = g.lor(g.lor(g.gt(Vi[0], zero), g.gt(Vi[1], zero)), g.gt(Vi[2], zero));
   int ok = g.lnot(g.land(any_neg, any_pos));
@@ -180,60 +242,67 @@ Graph signed_volume_graph(const TriGenome& G) {
     ok = g.land(ok, g.lnot(tie));
   }
   const int range = in_range(g, in, G.interval, t, V, Va, zero);
-  tri_outputs(g, ok, range, t, beta, gamma, V, Va, Vi[0], Vi[1], Vi[2]);
+  tri_outputs(g, P, ok, range, t, beta, gamma, V, Va, Vi[0], Vi[1], Vi[2]);
   return g;
 }
 
 Graph mt_graph(const TriGenome& G) {
-  Graph g;
-  const TriInputs in = tri_inputs(g);
+  TriInputs in;
+  Prec P;
+  Graph g = start_graph(G, in);
+  start_prec(g, G, in, P);
   const V3 e1 = vsub(g, in.p1, in.p0);
   const V3 e2 = vsub(g, in.p2, in.p0);
   const V3 s = vsub(g, in.a, in.p0);
-  const V3 q = cross(g, in.d, e2, G.fuse >= 2);
-  const V3 r = cross(g, s, e1, G.fuse >= 2);
-  const int V = dot(g, q, e1, G.dot, G.fuse >= 1);
-  const int V1 = dot(g, q, s, G.dot, G.fuse >= 1);
-  const int V2 = dot(g, r, in.d, G.dot, G.fuse >= 1);
-  const int Va = dot(g, r, e2, G.dot, G.fuse >= 1);
-  const int one = g.constant(1.0);
+  const V3 q = cross(g, in.d, e2, G.fuse >= 2, &P);
+  const V3 r = cross(g, s, e1, G.fuse >= 2, &P);
+  const int V = dot(g, q, e1, G.dot, G.fuse >= 1, &P);
+  const int V1 = dot(g, q, s, G.dot, G.fuse >= 1, &P);
+  const int V2 = dot(g, r, in.d, G.dot, G.fuse >= 1, &P);
+  const int Va = dot(g, r, e2, G.dot, G.fuse >= 1, &P);
+  const int one = g.constant(1.0, G.wide == 3);
   const auto [beta, gamma, t] = divide(g, G.divide, V, {V1, V2, Va}, one);
   const int sum = g.add(beta, gamma);
-  const int zero = g.constant(0.0);
+  const int zero = g.constant(0.0, G.wide == 3);
   const int inside = g.land(g.land(g.ge(beta, zero), g.ge(gamma, zero)), g.le(sum, one));
   const int range = in_range(g, in, G.interval, t, V, Va, zero);
-  tri_outputs(g, inside, range, t, beta, gamma, V, Va, -1, V1, V2);
+  tri_outputs(g, P, inside, range, t, beta, gamma, V, Va, -1, V1, V2);
   return g;
 }
 
 }  // namespace
 
 const std::array<const char*, kTriGenes>& tri_gene_names() {
-  static const std::array<const char*, kTriGenes> n = {"family", "edge_form", "origin",   "denom", "va",
-                                                       "divide", "interval",  "tie", "dot", "fuse"};
+  static const std::array<const char*, kTriGenes> n = {"family", "edge_form", "origin", "denom", "va",   "divide",
+                                                       "interval", "tie",     "dot",    "fuse",  "wide"};
   return n;
 }
 
 std::vector<int> to_vector(const TriGenome& g) {
-  return {g.family, g.edge_form, g.origin, g.denom, g.va, g.divide, g.interval, g.tie, g.dot, g.fuse};
+  return {g.family, g.edge_form, g.origin, g.denom, g.va, g.divide, g.interval, g.tie, g.dot, g.fuse, g.wide};
 }
 
 std::vector<int> genes_record(const TriGenome& g) {
   std::vector<int> v = to_vector(g);
-  if (g.fuse == 0) v.resize(kTriGenesUnfused);
+  if (g.wide == 0) v.resize(kTriGenes - 1);
+  if (g.wide == 0 && g.fuse == 0) v.resize(kTriGenesUnfused);
   return v;
 }
 
 TriGenome tri_genome(const std::vector<int>& v0) {
   std::vector<int> v = v0;
   if (v.size() == kTriGenesUnfused) v.push_back(0);  // written before the fuse gene
+  if (v.size() == kTriGenes - 1) v.push_back(0);     // written before the wide gene, or wide 0
   if (v.size() != kTriGenes)
     throw IrError("a ray-triangle genome has " + std::to_string(kTriGenes) + " genes, got " + std::to_string(v.size()));
   for (int i = 0; i < kTriGenes; ++i)
     if (v[i] < 0 || v[i] >= kTriGeneCount[i])
       throw IrError(std::string("gene ") + tri_gene_names()[i] + " must be 0.." + std::to_string(kTriGeneCount[i] - 1) +
                     ", got " + std::to_string(v[i]));
-  return {v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7], v[8], v[9]};
+  TriGenome g;
+  g.family = v[0], g.edge_form = v[1], g.origin = v[2], g.denom = v[3], g.va = v[4], g.divide = v[5];
+  g.interval = v[6], g.tie = v[7], g.dot = v[8], g.fuse = v[9], g.wide = v[10];
+  return g;
 }
 
 TriGenome canonical(const TriGenome& g) {
@@ -249,7 +318,7 @@ TriGenome canonical(const TriGenome& g) {
 std::string genome_name(const TriGenome& g0) {
   const TriGenome g = canonical(g0);
   auto n = [](char c, int v) { return std::string("-") + c + std::to_string(v); };
-  const std::string u = g.fuse ? n('u', g.fuse) : "";
+  const std::string u = (g.fuse ? n('u', g.fuse) : "") + (g.wide ? n('w', g.wide) : "");
   if (g.family == 1) return "mt" + n('q', g.divide) + n('i', g.interval) + n('p', g.dot) + u;
   return "sv" + n('f', g.edge_form) + n('o', g.origin) + n('d', g.denom) + n('a', g.va) + n('q', g.divide) +
          n('i', g.interval) + n('t', g.tie) + n('p', g.dot) + u;
@@ -257,7 +326,8 @@ std::string genome_name(const TriGenome& g0) {
 
 TriGenome parse_genome_name(const std::string& s) {
   const std::string form =
-      "'sv-f<0-3>-o<0-2>-d<0-3>-a<0-3>-q<0-1>-i<0-1>-t<0-1>-p<0-2>[-u<1-2>]' or 'mt-q<0-1>-i<0-1>-p<0-2>[-u<1-2>]'";
+      "'sv-f<0-3>-o<0-2>-d<0-3>-a<0-3>-q<0-1>-i<0-1>-t<0-1>-p<0-2>[-u<1-2>][-w<1-3>]' or "
+      "'mt-q<0-1>-i<0-1>-p<0-2>[-u<1-2>][-w<1-3>]'";
   auto bad = [&] { return IrError("bad genome name '" + s + "' (accepted: " + form + ")"); };
   std::vector<std::string> parts;
   size_t i = 0;
@@ -269,7 +339,10 @@ TriGenome parse_genome_name(const std::string& s) {
   const bool mt = parts[0] == "mt";
   if (!mt && parts[0] != "sv") throw bad();
   std::string letters = mt ? "qip" : "foda" "qitp";
-  if (parts.size() == letters.size() + 2) letters += 'u';  // the fuse gene, written only when not 0
+  // the fuse and wide genes, each written only when not 0
+  for (const char opt : {'u', 'w'})
+    if (parts.size() > letters.size() + 1 && !parts[letters.size() + 1].empty() && parts[letters.size() + 1][0] == opt)
+      letters += opt;
   if (parts.size() != letters.size() + 1) throw bad();
   std::map<char, int> v;
   for (size_t k = 0; k < letters.size(); ++k) {
@@ -277,9 +350,9 @@ TriGenome parse_genome_name(const std::string& s) {
     if (p.size() != 2 || p[0] != letters[k] || p[1] < '0' || p[1] > '9') throw bad();
     v[p[0]] = p[1] - '0';
   }
-  if (v.count('u') && v['u'] == 0) throw bad();  // one name per genome: no "-u0"
+  if ((v.count('u') && v['u'] == 0) || (v.count('w') && v['w'] == 0)) throw bad();  // one name per genome: no "-u0"
   try {
-    return tri_genome({mt ? 1 : 0, v['f'], v['o'], v['d'], v['a'], v['q'], v['i'], v['t'], v['p'], v['u']});
+    return tri_genome({mt ? 1 : 0, v['f'], v['o'], v['d'], v['a'], v['q'], v['i'], v['t'], v['p'], v['u'], v['w']});
   } catch (const IrError&) {
     throw bad();
   }
@@ -313,7 +386,8 @@ TriGenome start_genome(const std::string& name) {
 }
 
 Graph tri_graph(const TriGenome& g0) {
-  const TriGenome g = canonical(tri_genome(to_vector(g0)));
+  TriGenome g = canonical(tri_genome(to_vector(g0)));  // genes in range
+  g.wide_de = g0.wide_de, g.wide_dm = g0.wide_dm;
   return g.family == 1 ? mt_graph(g) : signed_volume_graph(g);
 }
 

@@ -531,6 +531,12 @@ struct Evaluator {
   std::map<std::string, Candidate> cache;
   std::vector<std::string> order;  // keys in evaluation order
   size_t evaluations = 0, hits = 0;
+  int wide_de = 0, wide_dm = 0;  // the search's wide format (genomes with mixed precision)
+
+  TriGenome with_wide(TriGenome g) const {
+    g.wide_de = wide_de, g.wide_dm = wide_dm;
+    return g;
+  }
 
   std::string key_of(const Graph& g) const { return util::fnv1a64_hex(g.print() + "|" + context_hash); }
 
@@ -546,7 +552,7 @@ struct Evaluator {
         j = nlohmann::json::parse(line);
         if (j.at("context") != context_hash) continue;  // another workload, cost model or schema
         Candidate c;
-        c.genome = parse_genome_name(j.at("genome"));
+        c.genome = with_wide(parse_genome_name(j.at("genome")));
         c.key = j.at("key");
         c.fit = fitness_from_json(j.at("fitness"));
         if (!cache.count(c.key)) order.push_back(c.key);
@@ -563,7 +569,7 @@ struct Evaluator {
     std::vector<size_t> todo;
     std::set<std::string> todo_keys;
     for (size_t i = 0; i < gs.size(); ++i) {
-      out[i].genome = canonical(gs[i]);
+      out[i].genome = with_wide(canonical(gs[i]));
       graphs.push_back(tri_graph(out[i].genome));
       out[i].key = key_of(graphs.back());
       if (cache.count(out[i].key)) {
@@ -599,18 +605,21 @@ struct Evaluator {
 std::vector<double> objectives_of(const Fitness& f, bool with_period) { return f.objectives(with_period); }
 
 // pagmo's problem: the genome as integers; fitness from the shared evaluator.
-// The decision vector holds the first `n` genes (kTriGenesUnfused without fused moves: the search
-// is then the one it was before the fuse gene existed); the others are 0.
+// The decision vector holds the first `n` genes (kTriGenesUnfused without fused or mixed moves, one
+// more with fused moves only: the search is then the one it was before those genes existed); the
+// others are 0. counts: the values each of the n genes takes (the fuse gene only 0 in a search with
+// mixed but not fused moves).
 struct TriProblem {
   std::shared_ptr<Evaluator> ev;
   int n = kTriGenes;
-  bool with_period = false;  // the clock period as a sixth objective (fused moves)
+  bool with_period = false;  // the clock period as a sixth objective (fused or mixed moves)
+  std::vector<int> counts;
   pagmo::vector_double fitness(const pagmo::vector_double& x) const {
     return objectives_of(ev->run({decode(x)})[0].fit, with_period);
   }
   std::pair<pagmo::vector_double, pagmo::vector_double> get_bounds() const {
     pagmo::vector_double lo(n, 0.0), hi(n);
-    for (int i = 0; i < n; ++i) hi[i] = kTriGeneCount[i] - 1;
+    for (int i = 0; i < n; ++i) hi[i] = counts[i] - 1;
     return {lo, hi};
   }
   pagmo::vector_double::size_type get_nobj() const { return Fitness::kObjectives + (with_period ? 1 : 0); }
@@ -657,12 +666,13 @@ void write_atomic(const fs::path& p, const std::string& text) {
 }
 
 // One mutation of a genome: each of the first n genes redrawn with probability 1/3 (at least one changes).
-TriGenome mutate(const TriGenome& g, int n, util::Xoshiro256ss& rng) {
+TriGenome mutate(const TriGenome& g, const std::vector<int>& counts, util::Xoshiro256ss& rng) {
   std::vector<int> v = to_vector(g);
   const std::string before = genome_name(g);
+  const int n = static_cast<int>(counts.size());
   for (int tries = 0; tries < 64; ++tries) {
     for (int i = 0; i < n; ++i)
-      if (util::bounded_lemire(rng, 3) == 0) v[i] = static_cast<int>(util::bounded_lemire(rng, kTriGeneCount[i]));
+      if (util::bounded_lemire(rng, 3) == 0) v[i] = static_cast<int>(util::bounded_lemire(rng, counts[i]));
     if (genome_name(tri_genome(v)) != before) break;
   }
   return tri_genome(v);
@@ -683,12 +693,18 @@ SearchResult run_search(const SearchOptions& opt, const Workload& w, const CostM
   const std::string context_hash = util::fnv1a64_hex(context.dump());
   if (!opt.fused && opt.start.fuse != 0)
     throw IrError("the start " + genome_name(opt.start) + " has fused operations: search with fused moves (--fused)");
+  const bool mixed = opt.wide_de > 0 || opt.wide_dm > 0;
+  if (!mixed && opt.start.wide != 0)
+    throw IrError("the start " + genome_name(opt.start) + " has mixed precision: search with mixed moves (--mixed FORMAT)");
+  if (opt.wide_de < 0 || opt.wide_dm < 0)
+    throw IrError("the wide format of mixed moves must not be narrower than the unit's");
   nlohmann::json settings = {{"context", context},
                              {"context_hash", context_hash},
                              {"start", genome_name(opt.start)},
                              {"population", opt.population},
                              {"seed", opt.seed}};
   if (opt.fused) settings["fused"] = true;  // absent without: the settings of searches before the gene
+  if (mixed) settings["mixed"] = {opt.wide_de, opt.wide_dm};
   // state.json: the settings, the generation reached and its population.
   const fs::path state_path = dir / "state.json";
   auto ev = std::make_shared<Evaluator>();
@@ -697,9 +713,14 @@ SearchResult run_search(const SearchOptions& opt, const Workload& w, const CostM
   ev->context_hash = context_hash;
   ev->threads = opt.threads;
   ev->log_path = (dir / "evaluations.jsonl").string();
+  ev->wide_de = opt.wide_de, ev->wide_dm = opt.wide_dm;
   if (fs::exists(ev->log_path)) ev->load(ev->log_path);
 
-  TriProblem tp{ev, opt.fused ? kTriGenes : kTriGenesUnfused, opt.fused};
+  // Genes moved over: nine, then the fuse gene with fused moves, the wide gene with mixed moves.
+  const bool with_period = opt.fused || mixed;
+  std::vector<int> counts(kTriGeneCount.begin(), kTriGeneCount.begin() + (mixed ? kTriGenes : opt.fused ? kTriGenes - 1 : kTriGenesUnfused));
+  if (mixed && !opt.fused) counts[9] = 1;  // fuse 0
+  TriProblem tp{ev, static_cast<int>(counts.size()), with_period, counts};
   pagmo::problem prob{tp};
   pagmo::population pop{prob, 0u, static_cast<unsigned>(opt.seed)};
   int gen = 0;
@@ -726,7 +747,7 @@ SearchResult run_search(const SearchOptions& opt, const Workload& w, const CostM
     // Generation 0: the start formulation and mutations of it.
     util::Xoshiro256ss rng(opt.seed);
     std::vector<TriGenome> gs = {opt.start};
-    while (static_cast<int>(gs.size()) < opt.population) gs.push_back(mutate(opt.start, tp.n, rng));
+    while (static_cast<int>(gs.size()) < opt.population) gs.push_back(mutate(opt.start, tp.counts, rng));
     const auto cs = ev->run(gs);
     for (size_t i = 0; i < cs.size(); ++i) pop.push_back(tp.encode(gs[i]), objectives_of(cs[i].fit, tp.with_period));
   }
@@ -748,14 +769,14 @@ SearchResult run_search(const SearchOptions& opt, const Workload& w, const CostM
     save();
     std::vector<Candidate> all;
     for (const auto& k : ev->order) all.push_back(ev->cache.at(k));
-    const auto front = pareto_front(all, opt.fused);
+    const auto front = pareto_front(all, with_period);
     say("generation " + std::to_string(gen) + "/" + std::to_string(opt.generations) + ": " +
         std::to_string(ev->cache.size()) + " designs evaluated, front " + std::to_string(front.size()));
   }
   // The front of every design this search evaluated (not only the last population).
   std::vector<Candidate> all;
   for (const auto& k : ev->order) all.push_back(ev->cache.at(k));
-  res.front = pareto_front(all, opt.fused);
+  res.front = pareto_front(all, with_period);
   res.evaluations = ev->evaluations;
   res.cache_hits = ev->hits;
   return res;

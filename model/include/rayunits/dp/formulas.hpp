@@ -46,24 +46,35 @@ struct TriGenome {
                       //   as a chain of two fmas on one product (association `dot`: (xx + yy) + zz
                       //   is fma(z, z', fma(x, x', yy))); 2 also every cross-product component
                       //   u_y v_z - u_z v_y as fma(u_y, v_z, -(u_z v_y))
-  // Moller-Trumbore uses divide, interval, dot and fuse; the other genes are ignored (canonical()).
+  int wide = 0;       // mixed precision (the graph's wide format, Graph::set_wide): 0 none; 1 every
+                      //   dot product (the volumes V_i, V, Va) computed in the wide format from its
+                      //   operands converted up and rounded back once; 2 also the cross products (the
+                      //   differences converted up, the triple products wide to their one rounding);
+                      //   3 all of it: every input converted up, the outputs rounded back
+  // Moller-Trumbore uses divide, interval, dot, fuse and wide; the other genes are ignored (canonical()).
+  // Not a gene: the wide format of wide > 0, the unit's widened by (wide_de, wide_dm) exponent and
+  // fraction bits (a search's --mixed format; not in the name: one per search).
+  int wide_de = 0, wide_dm = 0;
 };
-constexpr int kTriGenes = 10;
-constexpr std::array<int, kTriGenes> kTriGeneCount = {2, 4, 3, 4, 4, 2, 2, 2, 3, 3};
+constexpr int kTriGenes = 11;
+constexpr std::array<int, kTriGenes> kTriGeneCount = {2, 4, 3, 4, 4, 2, 2, 2, 3, 3, 4};
 // The genes of a search without fused moves (rayunits search tri without --fused): the first nine,
 // so that such a search is the one it was before the fuse gene existed (same random stream).
 constexpr int kTriGenesUnfused = 9;
 const std::array<const char*, kTriGenes>& tri_gene_names();
 
 std::vector<int> to_vector(const TriGenome& g);  // kTriGenes values
-// As written in result files (evaluations.jsonl, front.json, state.json): without the fuse gene when
-// it is 0, so a search without fused moves writes the files it wrote before the gene existed.
+// As written in result files (evaluations.jsonl, front.json, state.json): without the wide gene when it
+// is 0 and then without the fuse gene when it is 0, so a search without fused or mixed moves writes
+// the files it wrote before the genes existed.
 std::vector<int> genes_record(const TriGenome& g);
-// throws IrError for a wrong length or value; 9 genes (a genome written before the fuse gene) mean fuse 0
+// throws IrError for a wrong length or value; 9 or 10 genes (written before the fuse or wide gene, or
+// with them 0) mean fuse 0, wide 0
 TriGenome tri_genome(const std::vector<int>& v);
 TriGenome canonical(const TriGenome& g);  // genes the family ignores set to 0
 // "sv-f0-o0-d0-a0-q0-i0-t0-p0" / "mt-q1-i0-p0" (q divide, i interval, t tie, p dot association),
-// then "-u1" / "-u2" when fuse is not 0 (names without fused operations are what they were before)
+// then "-u1" / "-u2" when fuse is not 0 and "-w1" .. "-w3" when wide is not 0 (names without fused or
+// mixed operations are what they were before)
 std::string genome_name(const TriGenome& g);
 TriGenome parse_genome_name(const std::string& s);  // throws IrError naming the accepted form
 TriGenome fig36_genome();  // ray_tri_robust_graph(): Fig. 3.6 without its tie-break

@@ -163,6 +163,9 @@ struct SearchOptions {
   TriGenome start;          // the initial population: start and mutations of it
   std::string start_name;   // as given (recorded)
   bool fused = false;       // also move over fused multiply-adds (TriGenome::fuse; the cost model needs fp_fma)
+  // Mixed moves (TriGenome::wide) when either is > 0: the wide format is the unit's widened by these
+  // exponent and fraction bits (the cost model needs that format's rows and fp_cvt's).
+  int wide_de = 0, wide_dm = 0;
   int population = 24;      // a multiple of 4, >= 8 (NSGA-II)
   int generations = 20;
   uint64_t seed = 1;
