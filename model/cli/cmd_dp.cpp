@@ -18,13 +18,23 @@ namespace fs = std::filesystem;
 // A design name, a genome name of the search (sv-f0-o0-..., box-r1-f0-m0), or a file in the text form
 // (docs/DATAPATH.md).
 // origin: what emit writes as the module's origin line (empty for a graph file).
-dp::Graph load(const std::string& what, std::string& origin) {
+// wide: "DE,DM" for a genome with mixed precision (-w1..3): the exponent and fraction bits its wide
+// format adds to the unit's.
+dp::Graph load(const std::string& what, std::string& origin, const std::string& wide) {
   for (const auto& d : dp::designs())
     if (d.name == what) return origin = d.origin(), d.make();
   if (what.rfind("sv-", 0) == 0 || what.rfind("mt-", 0) == 0) {  // a genome of the search (dp/formulas.hpp)
     try {
-      const dp::TriGenome g = dp::parse_genome_name(what);
-      origin = "genome " + dp::genome_name(g);
+      dp::TriGenome g = dp::parse_genome_name(what);
+      if (!wide.empty()) {
+        int de = -1, dm = -1;
+        char tail = 0;
+        if (std::sscanf(wide.c_str(), "%d,%d%c", &de, &dm, &tail) != 2 || de < 0 || dm < 0 || de + dm == 0)
+          throw UsageError("--wide '" + wide + "': exponent and fraction bits to add, DE,DM (e.g. 1,7: e7m16 -> e8m23)");
+        g.wide_de = de, g.wide_dm = dm;
+      }
+      origin = "genome " + dp::genome_name(g) +
+               (g.wide ? " wide +" + std::to_string(g.wide_de) + " +" + std::to_string(g.wide_dm) : std::string());
       return dp::tri_graph(g);
     } catch (const dp::IrError& e) {
       throw UsageError(e.what());
@@ -62,7 +72,7 @@ int run_dp(int argc, char** argv) {
                "rayunits dp"};
   app.require_subcommand(1);
   auto* list = app.add_subcommand("list", "the named designs");
-  std::string what, module, out = ".";
+  std::string what, module, out = ".", wide;
   auto* print = app.add_subcommand("print", "the graph in the text form");
   print->add_option("design", what, "design name or graph file")->required();
   auto* count = app.add_subcommand("count", "operations per unit kind and the FP depth (levels)");
@@ -71,6 +81,9 @@ int run_dp(int argc, char** argv) {
   emit->add_option("design", what, "design name or graph file")->required();
   emit->add_option("--module", module, "module name (default ru_dp_<design>)");
   emit->add_option("--out", out, "output directory (default .)");
+  for (auto* c : {print, count, emit})
+    c->add_option("--wide", wide, "DE,DM: the wide format of a mixed-precision genome (-w1..3), the unit's plus DE "
+                                  "exponent and DM fraction bits");
   if (!parse_args(app, argc, argv)) return 0;
 
   if (list->parsed()) {
@@ -79,7 +92,7 @@ int run_dp(int argc, char** argv) {
     return 0;
   }
   std::string origin;
-  const dp::Graph g = load(what, origin);
+  const dp::Graph g = load(what, origin, wide);
   if (print->parsed()) {
     std::fputs(g.print().c_str(), stdout);
   } else if (count->parsed()) {

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <functional>
 #include <set>
+#include <optional>
 #include <string>
 
 #include "cli_util.hpp"
@@ -32,9 +33,13 @@ std::string fmt_g(double v, int prec = 4) {
   return b;
 }
 
-std::string csv_header() {
-  return "genome,area_um2,units_um2,reg_um2,latency,add,mul,div,cmp,fma,mean_rel,max_rel,mean_rel_t,mean_rel_beta,"
-         "mean_rel_gamma,nan,false_hits,false_misses,leaks,double_hits,misses,extras,role";
+// Mixed-precision searches add the wide format's operation counts and the conversions (columns
+// after `fma`); the files of other searches are what they were.
+std::string csv_header(bool mixed = false) {
+  return std::string("genome,area_um2,units_um2,reg_um2,latency,add,mul,div,cmp,fma,") +
+         (mixed ? "add_w,mul_w,div_w,cmp_w,fma_w,cvt_up,cvt_down," : "") +
+         "mean_rel,max_rel,mean_rel_t,mean_rel_beta,mean_rel_gamma,nan,false_hits,false_misses,leaks,double_hits,misses,"
+         "extras,role";
 }
 
 // Operations of kind k in a design's cost breakdown (0 when it has none).
@@ -43,11 +48,14 @@ std::string op_count(const dp::Fitness& f, const char* k) {
   return std::to_string(it == f.cost.ops.end() ? 0 : it->second);
 }
 
-std::string csv_row(const dp::TriGenome& g, const dp::Fitness& f, const std::string& role) {
+std::string csv_row(const dp::TriGenome& g, const dp::Fitness& f, const std::string& role, bool mixed = false) {
   auto op = [&](const char* k) { return op_count(f, k); };
+  std::string w;
+  if (mixed)
+    for (const char* k : {"add_w", "mul_w", "div_w", "cmp_w", "fma_w", "cvt_up", "cvt_down"}) w += op(k) + ",";
   return dp::genome_name(g) + "," + fmt_g(f.cost.area_um2, 8) + "," + fmt_g(f.cost.units_um2, 8) + "," +
          fmt_g(f.cost.reg_um2, 8) + "," + std::to_string(f.cost.latency) + "," + op("add") + "," + op("mul") + "," +
-         op("div") + "," + op("cmp") + "," + op("fma") + "," + fmt_g(f.mean_rel, 6) + "," + fmt_g(f.max_rel, 6) + "," +
+         op("div") + "," + op("cmp") + "," + op("fma") + "," + w + fmt_g(f.mean_rel, 6) + "," + fmt_g(f.max_rel, 6) + "," +
          fmt_g(f.mean_tbg[0], 6) + "," + fmt_g(f.mean_tbg[1], 6) + "," + fmt_g(f.mean_tbg[2], 6) + "," +
          std::to_string(f.nan) + "," + std::to_string(f.false_hits) + "," + std::to_string(f.false_misses) + "," +
          std::to_string(f.leaks) + "," + std::to_string(f.double_hits) + "," + std::to_string(f.misses()) + "," +
@@ -109,15 +117,16 @@ std::string stem_of(const std::string& name) {
 // missing unless no_characterize); an output directory this call made is removed again on error.
 dp::CostModel search_cost_model(const std::vector<std::string>& rows, const std::string& library, const num::Format& fmt,
                                 double period_ps, const std::string& out, bool no_characterize, bool fma,
-                                const std::function<void(const std::string&)>& say) {
+                                const std::function<void(const std::string&)>& say,
+                                const std::optional<num::Format>& wide = std::nullopt) {
   const synth::CellLibrary& lib = synth::cell_library(library);
   const bool made_out = !fs::exists(out);
   if (!no_characterize) fs::create_directories(out);
   try {
     const dp::CostModel cm = dp::CostModel::build(
-        rows, lib, fmt, period_ps, no_characterize ? "" : (fs::path(out) / "cell_rows.jsonl").string(), say, fma);
+        rows, lib, fmt, period_ps, no_characterize ? "" : (fs::path(out) / "cell_rows.jsonl").string(), say, fma, wide);
     for (const auto& [u, ch] : cm.units())
-      say("cost model: " + u + " " + fmt.name() + " Stages " + std::to_string(ch.stages) + ", " +
+      say("cost model: " + u + " " + (u.find("@") != std::string::npos ? std::string() : fmt.name() + " ") + "Stages " + std::to_string(ch.stages) + ", " +
           fmt_g(ch.area_um2, 7) + " um2, " + fmt_g(ch.period_ps, 5) + " ps (" + ch.point + ")");
     return cm;
   } catch (...) {
@@ -307,6 +316,7 @@ int run_search_cmd(int argc, char** argv) {
   unsigned long long seed = 1;
   size_t records = 2048, mesh_rays = 400;
   bool quiet = false, no_characterize = false, no_verify = false, fused = false;
+  std::string mixed;
   double epsilon = 0.05;
   tri->add_option("--format", format, "number format eXmY[-ftz] (default e7m16)");
   tri->add_option("--clock", clock, "target clock (250MHz, 4ns, 4000ps; default 250MHz)");
@@ -337,6 +347,9 @@ int run_search_cmd(int argc, char** argv) {
   tri->add_flag("--fused", fused,
                 "also move over fused multiply-adds (gene u: dot products, then cross products as ru_fp_fma; "
                 "characterizes fp_fma at the clock)");
+  tri->add_option("--mixed", mixed,
+                  "also move over mixed precision (gene w: dot products, also cross products, or all of it in this "
+                  "wider format eXmY, converted by ru_fp_cvt; characterizes its units and fp_cvt at the clock)");
   tri->add_flag("--quiet", quiet, "no progress lines");
   if (!parse_args(app, argc, argv)) return 0;
   if (box->parsed()) return run_box(ba, argc, argv);
@@ -357,6 +370,18 @@ int run_search_cmd(int argc, char** argv) {
   }();
   if (start_genome.fuse != 0 && !fused)
     throw UsageError("--start " + start + " has fused operations (gene u): add --fused");
+  std::optional<num::Format> wide;
+  if (!mixed.empty()) {
+    wide = num::Format::parse(mixed);
+    wide->subnormals = fmt.subnormals;
+    wide->round = fmt.round;
+    if (wide->exp_bits < fmt.exp_bits || wide->frac_bits < fmt.frac_bits ||
+        (wide->exp_bits == fmt.exp_bits && wide->frac_bits == fmt.frac_bits))
+      throw UsageError("--mixed " + mixed + ": the wide format must be wider than " + fmt.name() +
+                       " (no fewer exponent and fraction bits, more of one)");
+  }
+  if (start_genome.wide != 0 && !wide)
+    throw UsageError("--start " + start + " has mixed precision (gene w): add --mixed FORMAT");
   auto say = [&](const std::string& s) {
     if (!quiet) std::fprintf(stderr, "[search tri] %s\n", s.c_str());
   };
@@ -381,7 +406,7 @@ int run_search_cmd(int argc, char** argv) {
   units::Mesh mesh = fs::is_regular_file(mesh_name) ? units::load_mesh(mesh_name) : units::builtin_mesh(mesh_name);
   if (population < 8 || population % 4 != 0)
     throw UsageError("--population must be a multiple of 4 and at least 8, got " + std::to_string(population));
-  const dp::CostModel cm = search_cost_model(rows, library, fmt, period_ps, out, no_characterize, fused, say);
+  const dp::CostModel cm = search_cost_model(rows, library, fmt, period_ps, out, no_characterize, fused, say, wide);
 
   const auto t0 = std::chrono::steady_clock::now();
   const dp::Workload w = dp::make_workload(recs, fmt, std::move(mesh), mesh_rays, seed);
@@ -405,6 +430,8 @@ int run_search_cmd(int argc, char** argv) {
   so.start = start_genome;
   so.start_name = start;
   so.fused = fused;
+  if (wide) so.wide_de = wide->exp_bits - fmt.exp_bits, so.wide_dm = wide->frac_bits - fmt.frac_bits;
+  so.start.wide_de = so.wide_de, so.start.wide_dm = so.wide_dm;
   so.population = population;
   so.generations = static_cast<int>(std::max(0L, (budget + population - 1) / population - 1));
   so.seed = seed;
@@ -432,28 +459,30 @@ int run_search_cmd(int argc, char** argv) {
                      [&](size_t i) { ref_fit[i] = dp::evaluate_fitness(dp::tri_graph(refs[i].g), w, cm); });
 
   // The reported front: the epsilon-box front of the search's front.
-  const std::vector<dp::Candidate> reported = dp::epsilon_front(res.front, epsilon, fused);
+  const bool with_period = fused || wide.has_value();
+  const std::vector<dp::Candidate> reported = dp::epsilon_front(res.front, epsilon, with_period);
   std::vector<Reported> ds;
   for (const auto& c : reported)
     ds.push_back({stem_of(dp::genome_name(c.genome)), dp::genome_name(c.genome), dp::tri_graph(c.genome)});
   const std::vector<std::string> status = emit_and_verify(out, fmt, ds, verify, say);
 
   nlohmann::json front = nlohmann::json::array(), all = nlohmann::json::array(), refj = nlohmann::json::array();
-  std::string csv = csv_header() + ",rtl\n", csv_all = csv_header() + "\n";
+  const bool mx = wide.has_value();
+  std::string csv = csv_header(mx) + ",rtl\n", csv_all = csv_header(mx) + "\n";
   for (size_t i = 0; i < reported.size(); ++i) {
     const auto& c = reported[i];
     front.push_back({{"genome", dp::genome_name(c.genome)}, {"unit", "dp_" + ds[i].stem},
                      {"genes", dp::genes_record(c.genome)}, {"key", c.key}, {"fitness", to_json(c.fit)},
                      {"rtl", status[i]}});
-    csv += csv_row(c.genome, c.fit, "front") + "," + status[i] + "\n";
+    csv += csv_row(c.genome, c.fit, "front", mx) + "," + status[i] + "\n";
   }
   for (const auto& c : res.front) {
     all.push_back({{"genome", dp::genome_name(c.genome)}, {"key", c.key}, {"fitness", to_json(c.fit)}});
-    csv_all += csv_row(c.genome, c.fit, "pareto") + "\n";
+    csv_all += csv_row(c.genome, c.fit, "pareto", mx) + "\n";
   }
   for (size_t i = 0; i < refs.size(); ++i) {
     refj.push_back({{"name", refs[i].name}, {"genome", dp::genome_name(refs[i].g)}, {"fitness", to_json(ref_fit[i])}});
-    csv += csv_row(refs[i].g, ref_fit[i], std::string("reference:") + refs[i].name) + ",\n";
+    csv += csv_row(refs[i].g, ref_fit[i], std::string("reference:") + refs[i].name, mx) + ",\n";
   }
   const nlohmann::json doc = {{"command", command_line("rayunits search", argc, argv)},
                               {"context", context},
@@ -461,7 +490,7 @@ int run_search_cmd(int argc, char** argv) {
                               {"population", population},
                               {"generations", so.generations},
                               {"seed", seed},
-                              {"objectives", fused ? nlohmann::json{"area_um2 (cost model estimate)", "mean_rel", "max_rel", "misses", "extras", "period_ps (cost model)"}
+                              {"objectives", with_period ? nlohmann::json{"area_um2 (cost model estimate)", "mean_rel", "max_rel", "misses", "extras", "period_ps (cost model)"}
                                      : nlohmann::json{"area_um2 (cost model estimate)", "mean_rel", "max_rel", "misses", "extras"}},
                               {"epsilon", epsilon},
                               {"front", front},

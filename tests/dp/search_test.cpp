@@ -258,7 +258,8 @@ struct Rows {
   fs::path dir = tmp.p;
   std::string format;
   explicit Rows(std::string fmt = "e7m16") : format(std::move(fmt)) {}
-  void add(const std::string& unit, int stages, double period, double area, bool current = true) {
+  void add(const std::string& unit, int stages, double period, double area, bool current = true,
+           const nlohmann::json& params = nullptr) {
     const auto& spec = ru::synth::find_unit(unit);
     const std::string hash =
         current ? ru::synth::sources_hash(ru::synth::resolve_sources(spec, ru::synth::default_rtl_dir())) : "0000";
@@ -267,6 +268,7 @@ struct Rows {
                         {"round", "rne"},     {"subnormals", true},        {"period_ps", period},
                         {"area_um2", area},   {"fmax_mhz", 1e6 / period},  {"target_clock_ps", period},
                         {"point", unit + "_s" + std::to_string(stages)}};
+    if (!params.is_null()) j["params"] = params;
     std::ofstream(dir / "rows.jsonl", std::ios::app) << j.dump() << "\n";
   }
   // Units in the proportions the cell flow measures at e7m16 / 250 MHz (add 55, mul 102, div 217,
@@ -392,6 +394,51 @@ TEST(SearchFront, ParetoAndEpsilonBoxes) {
 }
 
 // A small cost model with realistic unit proportions (planted rows).
+// Mixed precision: the wide format's rows and ru_fp_cvt's both ways (their source format and IntW
+// 2 as the emitter instantiates it), wide registers at the wide width.
+TEST(SearchCost, MixedGraphsTakeTheWideRowsAndConversions) {
+  Rows r;
+  r.realistic();
+  r.format = "e8m23";
+  r.add("fp_add", 2, 3900, 80000);
+  r.add("fp_mul", 3, 3950, 170000);
+  r.add("fp_div", 4, 3990, 400000);
+  r.add("fp_cmp", 0, 2800, 8000);
+  const nlohmann::json from_narrow = {{"InExpW", 7}, {"InFracW", 16}, {"InSubnormals", 1}, {"IntW", 2}};
+  r.add("fp_cvt", 0, 3000, 9000, true, from_narrow);
+  r.add("fp_cvt", 0, 2000, 5000, true, {{"InExpW", 7}, {"InFracW", 16}, {"InSubnormals", 1}, {"IntW", 32}});  // other IntW
+  r.format = "e7m16";
+  r.add("fp_cvt", 1, 3500, 7000, true, {{"InExpW", 8}, {"InFracW", 23}, {"InSubnormals", 1}, {"IntW", 2}});
+  const auto& lib = ru::synth::cell_library("osu018");
+  const Format f = Format::parse("e7m16");
+  const CostModel m = CostModel::build({r.dir.string()}, lib, f, 4000, "", {}, false, Format::parse("e8m23"));
+  EXPECT_EQ(m.units().at("fp_mul@wide").area_um2, 170000);
+  EXPECT_EQ(m.units().at("fp_mul").area_um2, 101980);
+  EXPECT_EQ(m.units().at("fp_cvt@up").area_um2, 9000);  // not the IntW 32 row
+  EXPECT_EQ(m.units().at("fp_cvt@down").stages, 1);
+  EXPECT_EQ(m.to_json().at("wide_format"), "e8m23");
+  // x*y in e8m23 from two e7m16 values: both up (Stages 0: ready at 1), the wide mul (3 + 1: ready
+  // at 5), down (1 + 1: ready at 7); registers: two 32-bit conversions, the 32-bit product, the
+  // 24-bit result
+  const Graph g = Graph::parse("wide 1 7\nin x\nin y\ncvt 0\ncvt 1\nmul 2 3\ncvt 4\nout f 5\n");
+  const CostBreakdown c = m.cost(g);
+  EXPECT_EQ(c.latency, 7);
+  EXPECT_EQ(c.reg_bits, 32 + 32 + 32 + 24);
+  EXPECT_DOUBLE_EQ(c.units_um2, 2 * 9000 + 170000 + 7000);
+  // without the wide rows a mixed graph is refused
+  Rows plain;
+  plain.realistic();
+  const CostModel m0 = CostModel::build({plain.dir.string()}, lib, f, 4000);
+  EXPECT_THROW(m0.cost(g), IrError);
+  // a cost model asked for a wide format without its rows names what is missing
+  try {
+    CostModel::build({plain.dir.string()}, lib, f, 4000, "", {}, false, Format::parse("e8m23"));
+    ADD_FAILURE() << "no e8m23 rows, accepted";
+  } catch (const ru::synth::SynthError& e) {
+    EXPECT_NE(std::string(e.what()).find("no current osu018 row of fp_add e8m23"), std::string::npos) << e.what();
+  }
+}
+
 struct Fixture {
   Rows rows;
   CostModel cm;
@@ -487,6 +534,50 @@ TEST(Search, FusedMovesOnlyWhenAsked) {
   o.start.fuse = 1;
   o.out_dir = (base / "refused").string();
   EXPECT_THROW(run_search(o, fx.w, cm, {{"test", 3}}), IrError);
+  fs::remove_all(base);
+}
+
+// Mixed moves only when asked; with them the wide gene moves and the fuse gene stays 0 (no --fused).
+TEST(Search, MixedMovesOnlyWhenAsked) {
+  Fixture fx;
+  Rows rows;
+  rows.realistic();
+  rows.format = "e8m23";
+  rows.add("fp_add", 2, 3900, 80000);
+  rows.add("fp_mul", 3, 3950, 170000);
+  rows.add("fp_div", 4, 3990, 400000);
+  rows.add("fp_cmp", 0, 2800, 8000);
+  rows.add("fp_cvt", 0, 3000, 9000, true, {{"InExpW", 7}, {"InFracW", 16}, {"InSubnormals", 1}, {"IntW", 2}});
+  rows.format = "e7m16";
+  rows.add("fp_cvt", 1, 3500, 7000, true, {{"InExpW", 8}, {"InFracW", 23}, {"InSubnormals", 1}, {"IntW", 2}});
+  const CostModel cm = CostModel::build({rows.dir.string()}, ru::synth::cell_library("osu018"), Format::parse("e7m16"),
+                                        4000, "", {}, false, Format::parse("e8m23"));
+  const fs::path base = fs::temp_directory_path() / "ru-search-mixed";
+  fs::remove_all(base);
+  SearchOptions o;
+  o.start = fig36_genome();
+  o.population = 8;
+  o.seed = 5;
+  o.generations = 2;
+  o.threads = 2;
+  o.wide_de = 1, o.wide_dm = 7;
+  o.out_dir = (base / "mixed").string();
+  run_search(o, fx.w, cm, {{"test", 4}});
+  int mixed = 0, fused = 0;
+  {
+    std::ifstream in(base / "mixed" / "evaluations.jsonl");
+    for (std::string line; std::getline(in, line);)
+      mixed += line.find("-w") != std::string::npos, fused += line.find("-u") != std::string::npos;
+  }
+  EXPECT_GT(mixed, 0);
+  EXPECT_EQ(fused, 0);
+  EXPECT_EQ(nlohmann::json::parse(slurp(base / "mixed" / "state.json")).at("settings").at("mixed"),
+            nlohmann::json({1, 7}));
+  // a mixed start without mixed moves is refused
+  o.wide_de = o.wide_dm = 0;
+  o.start.wide = 1;
+  o.out_dir = (base / "refused").string();
+  EXPECT_THROW(run_search(o, fx.w, cm, {{"test", 4}}), IrError);
   fs::remove_all(base);
 }
 

@@ -61,8 +61,10 @@ struct Pick {
   int max_stages = -1;  // the largest Stages among the current rows
 };
 
+// params: unit parameters a row must have (fp_cvt's source format), empty for the FP operators.
 Pick pick_row(const std::vector<synth::CheckedInRow>& rows, const std::string& unit, const std::string& library,
-              const Format& fmt, double period_ps, const std::string& hash) {
+              const Format& fmt, double period_ps, const std::string& hash,
+              const std::map<std::string, long long>& params = {}) {
   Pick p;
   const std::string round = num::round_name(fmt.round);
   const std::string fname = Format{fmt.exp_bits, fmt.frac_bits, true, fmt.round}.name();
@@ -71,6 +73,10 @@ Pick pick_row(const std::vector<synth::CheckedInRow>& rows, const std::string& u
     if (j.value("unit", "") != unit || j.value("flow", "") != library) continue;
     if (!j.contains("format") || !j["format"].is_string() || j["format"].get<std::string>() != fname) continue;
     if (j.value("subnormals", true) != fmt.subnormals || j.value("round", "rne") != round) continue;
+    bool same = true;
+    for (const auto& [k, v] : params)
+      same = same && j.contains("params") && j["params"].is_object() && j["params"].value(k, -1LL) == v;
+    if (!same) continue;
     if (!j.contains("period_ps") || !j["period_ps"].is_number() || !j.contains("area_um2")) continue;
     if (j.value("rtl_hash", "") != hash) {
       ++p.stale;
@@ -91,7 +97,8 @@ Pick pick_row(const std::vector<synth::CheckedInRow>& rows, const std::string& u
 
 CostModel CostModel::build(const std::vector<std::string>& row_paths, const synth::CellLibrary& lib,
                            const Format& fmt, double period_ps, const std::string& measure_file,
-                           const std::function<void(const std::string&)>& progress, bool fma) {
+                           const std::function<void(const std::string&)>& progress, bool fma,
+                           const std::optional<Format>& wide) {
   CostModel m;
   m.fmt_ = fmt;
   m.period_ps_ = period_ps;
@@ -101,13 +108,24 @@ CostModel CostModel::build(const std::vector<std::string>& row_paths, const synt
   std::vector<std::string> paths = row_paths;
   if (!measure_file.empty() && fs::exists(measure_file)) paths.push_back(measure_file);
   std::vector<synth::CheckedInRow> rows = synth::CheckedInRows::load(paths).rows();
-  for (const auto& [kind, unit] : kind_units()) {
-    if (kind == "fma" && !fma) continue;  // only searches with fused moves use it
+  // One unit configuration per key: the smallest current row meeting the clock, characterized now
+  // when there is none (and measure_file is given).
+  auto choose = [&](const std::string& key, const std::string& unit, const Format& fmt,
+                    const std::map<std::string, long long>& params) {
     const synth::UnitSpec& spec = synth::find_unit(unit);
     const std::string hash = synth::sources_hash(synth::resolve_sources(spec, synth::default_rtl_dir()));
-    Pick p = pick_row(rows, unit, lib.name, fmt, period_ps, hash);
+    Pick p = pick_row(rows, unit, lib.name, fmt, period_ps, hash, params);
     synth::UnitConfig fc;
     fc.fmt = fmt;
+    fc.params = params;
+    std::string what = unit + " " + fmt.name();  // for messages and row points
+    std::string stem = unit + "_" + fmt.name();
+    if (params.count("InExpW")) {
+      const std::string from = Format{static_cast<int>(params.at("InExpW")), static_cast<int>(params.at("InFracW")),
+                                      fmt.subnormals, fmt.round}.name();
+      what += " from " + from;
+      stem += "_from_" + from;
+    }
     // A current row at the unit's maximum useful Stages: it was characterized through its whole
     // range (by an earlier search) and none met the clock; not again.
     const bool exhausted = p.max_stages >= spec.max_stages(fc);
@@ -119,8 +137,7 @@ CostModel CostModel::build(const std::vector<std::string>& row_paths, const synt
       // a unit close to its limit gets the mapping that meets the STA clock if one does
       fo.clocks_ps = {period_ps, 0.85 * period_ps, 0.7 * period_ps};
       fo.ice40 = fo.xilinx = false;
-      synth::UnitConfig c;
-      c.fmt = fmt;
+      synth::UnitConfig c = fc;
       const int smax = spec.max_stages(c);
       int s = 0, met_at = -1;
       std::ofstream out(measure_file, std::ios::app);
@@ -128,7 +145,7 @@ CostModel CostModel::build(const std::vector<std::string>& row_paths, const synt
         c.stages = s;
         const synth::SynthResult r = synth::run_synth(spec, c, fo);
         for (nlohmann::json j : synth::to_json_rows(r)) {
-          j["point"] = "search:" + unit + "_" + fmt.name() + "_s" + std::to_string(s);
+          j["point"] = "search:" + stem + "_s" + std::to_string(s);
           j["command"] = "rayunits synth " + synth::config_args(spec, c) + " --flow " + lib.name + " --clock " +
                          std::to_string(static_cast<long>(period_ps)) + "ps";
           out << j.dump() << "\n";
@@ -140,35 +157,50 @@ CostModel CostModel::build(const std::vector<std::string>& row_paths, const synt
         for (const auto& run : r.cell.runs)
           if (run.achieved_ps < per) per = run.achieved_ps, area = run.area.total;
         if (progress)
-          progress("characterized " + unit + " " + fmt.name() + " Stages " + std::to_string(s) + ": fastest " +
+          progress("characterized " + what + " Stages " + std::to_string(s) + ": fastest " +
                    std::to_string(static_cast<long>(per)) + " ps (" + std::to_string(static_cast<long>(area)) +
                    " um2) of " + std::to_string(r.cell.runs.size()) + " ABC targets");
         if (per <= period_ps && met_at < 0) met_at = s;
         // from Stages 0, jump to the estimate period0 / period_ps - 1 stages
         s = s == 0 && met_at < 0 ? std::max(1, static_cast<int>(std::ceil(per / period_ps)) - 1) : s + 1;
       }
-      p = pick_row(rows, unit, lib.name, fmt, period_ps, hash);
+      p = pick_row(rows, unit, lib.name, fmt, period_ps, hash, params);
     }
     if (!p.found && p.fastest_row.unit == unit) {
       // No configuration meets the clock: the fastest one, and the designs using it run slower
       if (progress)
-        progress("cost model: no " + unit + " " + fmt.name() + " configuration meets " +
-                 std::to_string(static_cast<long>(period_ps)) + " ps; using the fastest, Stages " +
-                 std::to_string(p.fastest_row.stages) + " at " + std::to_string(static_cast<long>(p.fastest)) +
-                 " ps (designs with it: clock <= " + std::to_string(static_cast<long>(1e6 / p.fastest)) + " MHz)");
+        progress("cost model: no " + what + " configuration meets " + std::to_string(static_cast<long>(period_ps)) +
+                 " ps; using the fastest, Stages " + std::to_string(p.fastest_row.stages) + " at " +
+                 std::to_string(static_cast<long>(p.fastest)) + " ps (designs with it: clock <= " +
+                 std::to_string(static_cast<long>(1e6 / p.fastest)) + " MHz)");
       p.best = p.fastest_row;
       p.found = true;
     }
     if (!p.found)
       throw synth::SynthError(
-          "cost model: no current " + lib.name + " row of " + unit + " " + fmt.name() + " (" +
-          num::round_name(fmt.round) + ") meets " + std::to_string(static_cast<long>(period_ps)) + " ps" +
+          "cost model: no current " + lib.name + " row of " + what + " (" + num::round_name(fmt.round) + ") meets " +
+          std::to_string(static_cast<long>(period_ps)) + " ps" +
           (std::isfinite(p.fastest) ? " (the fastest is " + std::to_string(static_cast<long>(p.fastest)) + " ps, " +
                                           p.fastest_point + ")"
                                     : " (none at all)") +
           (p.stale ? "; " + std::to_string(p.stale) + " rows are stale (rtl_hash differs)" : "") +
           (measure_file.empty() ? "; let the search characterize the units (drop --no-characterize)" : ""));
-    m.units_[unit] = p.best;
+    m.units_[key] = p.best;
+  };
+  for (const auto& [kind, unit] : kind_units())
+    if (kind != "fma" || fma) choose(unit, unit, fmt, {});  // fp_fma only for searches with fused moves
+  if (wide) {
+    // Mixed precision: the operators in the wide format, and the conversions both ways (ru_fp_cvt
+    // f2f, IntW 2 as the emitter instantiates it)
+    m.wide_ = *wide;
+    for (const auto& [kind, unit] : kind_units())
+      if (kind != "fma" || fma) choose(unit + "@wide", unit, *wide, {});
+    auto from = [](const Format& f) {
+      return std::map<std::string, long long>{{"InExpW", f.exp_bits}, {"InFracW", f.frac_bits},
+                                              {"InSubnormals", f.subnormals ? 1 : 0}, {"IntW", 2}};
+    };
+    choose("fp_cvt@up", "fp_cvt", *wide, from(fmt));
+    choose("fp_cvt@down", "fp_cvt", fmt, from(*wide));
   }
   return m;
 }
@@ -177,7 +209,10 @@ CostBreakdown CostModel::cost(const Graph& g) const {
   CostBreakdown c;
   c.ops = g.op_counts();
   const auto& ns = g.nodes();
-  const int W = 1 + fmt_.exp_bits + fmt_.frac_bits;
+  if (g.mixed() && !wide_)
+    throw IrError("cost model: a mixed-precision graph needs a cost model with the wide format's rows");
+  const int Wn = 1 + fmt_.exp_bits + fmt_.frac_bits, Ww = wide_ ? 1 + wide_->exp_bits + wide_->frac_bits : Wn;
+  auto width = [&](int i) { return ns[i].wide ? Ww : Wn; };  // of node i's value (FP)
   std::vector<int> ready(ns.size(), 0), start(ns.size(), 0), hold(ns.size(), 0);
   for (size_t i = 0; i < ns.size(); ++i) {
     const Node& n = ns[i];
@@ -185,7 +220,10 @@ CostBreakdown CostModel::cost(const Graph& g) const {
     for (const int o : {n.a, n.b, n.c})
       if (o >= 0) s = std::max(s, ready[o]);
     start[i] = s;
-    const std::string unit = op_unit(n.op);
+    std::string unit = op_unit(n.op);
+    if (n.op == Op::Cvt) unit += n.wide ? "@up" : "@down";
+    else if (n.wide && !unit.empty()) unit += "@wide";
+    const int W = width(static_cast<int>(i));
     if (!unit.empty()) {
       const auto it = units_.find(unit);
       if (it == units_.end()) throw IrError("cost model: no " + unit + " in the model (" + op_name(n.op) + ")");
@@ -206,7 +244,7 @@ CostBreakdown CostModel::cost(const Graph& g) const {
   for (const auto& [name, n] : g.outputs()) hold[n] = std::max(hold[n], c.latency - ready[n]);
   for (size_t i = 0; i < ns.size(); ++i)
     if (ns[i].op != Op::Const && ns[i].op != Op::BConst)
-      c.reg_bits += static_cast<long>(hold[i]) * (op_is_bool(ns[i].op) ? 1 : W);
+      c.reg_bits += static_cast<long>(hold[i]) * (op_is_bool(ns[i].op) ? 1 : width(static_cast<int>(i)));
   c.reg_um2 = static_cast<double>(c.reg_bits) * ff_um2;
   c.area_um2 = c.units_um2 + c.reg_um2 + c.mux_um2 + c.gate_um2;
   return c;
@@ -216,9 +254,11 @@ nlohmann::json CostModel::to_json() const {
   nlohmann::json u = nlohmann::json::object();
   for (const auto& [name, ch] : units_)
     u[name] = {{"stages", ch.stages}, {"area_um2", ch.area_um2}, {"period_ps", ch.period_ps}, {"point", ch.point}};
-  return {{"format", fmt_.name()},      {"period_ps", period_ps_}, {"units", u},
-          {"ff_um2", ff_um2},           {"mux_um2", mux_um2},       {"gate_um2", gate_um2},
-          {"kind", "estimate: characterized FP-unit rows + registers, muxes and gates from the liberty"}};
+  nlohmann::json j = {{"format", fmt_.name()},      {"period_ps", period_ps_}, {"units", u},
+                      {"ff_um2", ff_um2},           {"mux_um2", mux_um2},       {"gate_um2", gate_um2},
+                      {"kind", "estimate: characterized FP-unit rows + registers, muxes and gates from the liberty"}};
+  if (wide_) j["wide_format"] = wide_->name();  // only for mixed-precision searches
+  return j;
 }
 
 // ---- workload and fitness --------------------------------------------------------------------
@@ -605,21 +645,20 @@ struct Evaluator {
 std::vector<double> objectives_of(const Fitness& f, bool with_period) { return f.objectives(with_period); }
 
 // pagmo's problem: the genome as integers; fitness from the shared evaluator.
-// The decision vector holds the first `n` genes (kTriGenesUnfused without fused or mixed moves, one
-// more with fused moves only: the search is then the one it was before those genes existed); the
-// others are 0. counts: the values each of the n genes takes (the fuse gene only 0 in a search with
-// mixed but not fused moves).
+// The decision vector holds the genes moved over, `genes` (indices into to_vector(): the nine
+// first, then the fuse gene with fused moves and the wide gene with mixed moves: a search without
+// them is the one it was before those genes existed); the others are 0.
 struct TriProblem {
   std::shared_ptr<Evaluator> ev;
   int n = kTriGenes;
   bool with_period = false;  // the clock period as a sixth objective (fused or mixed moves)
-  std::vector<int> counts;
+  std::vector<int> genes;
   pagmo::vector_double fitness(const pagmo::vector_double& x) const {
     return objectives_of(ev->run({decode(x)})[0].fit, with_period);
   }
   std::pair<pagmo::vector_double, pagmo::vector_double> get_bounds() const {
     pagmo::vector_double lo(n, 0.0), hi(n);
-    for (int i = 0; i < n; ++i) hi[i] = counts[i] - 1;
+    for (int i = 0; i < n; ++i) hi[i] = kTriGeneCount[genes[i]] - 1;
     return {lo, hi};
   }
   pagmo::vector_double::size_type get_nobj() const { return Fitness::kObjectives + (with_period ? 1 : 0); }
@@ -627,12 +666,14 @@ struct TriProblem {
   std::string get_name() const { return "rayunits ray-triangle formulations"; }
   TriGenome decode(const pagmo::vector_double& x) const {
     std::vector<int> v(kTriGenes, 0);
-    for (int i = 0; i < n; ++i) v[i] = static_cast<int>(std::lround(x[i]));
+    for (int i = 0; i < n; ++i) v[genes[i]] = static_cast<int>(std::lround(x[i]));
     return tri_genome(v);
   }
   pagmo::vector_double encode(const TriGenome& g) const {
     const auto v = to_vector(g);
-    return pagmo::vector_double(v.begin(), v.begin() + n);
+    pagmo::vector_double x(n);
+    for (int i = 0; i < n; ++i) x[i] = v[genes[i]];
+    return x;
   }
 };
 
@@ -665,14 +706,13 @@ void write_atomic(const fs::path& p, const std::string& text) {
   fs::rename(tmp, p);
 }
 
-// One mutation of a genome: each of the first n genes redrawn with probability 1/3 (at least one changes).
-TriGenome mutate(const TriGenome& g, const std::vector<int>& counts, util::Xoshiro256ss& rng) {
+// One mutation of a genome: each gene moved over redrawn with probability 1/3 (at least one changes).
+TriGenome mutate(const TriGenome& g, const std::vector<int>& genes, util::Xoshiro256ss& rng) {
   std::vector<int> v = to_vector(g);
   const std::string before = genome_name(g);
-  const int n = static_cast<int>(counts.size());
   for (int tries = 0; tries < 64; ++tries) {
-    for (int i = 0; i < n; ++i)
-      if (util::bounded_lemire(rng, 3) == 0) v[i] = static_cast<int>(util::bounded_lemire(rng, counts[i]));
+    for (const int i : genes)
+      if (util::bounded_lemire(rng, 3) == 0) v[i] = static_cast<int>(util::bounded_lemire(rng, kTriGeneCount[i]));
     if (genome_name(tri_genome(v)) != before) break;
   }
   return tri_genome(v);
@@ -718,9 +758,11 @@ SearchResult run_search(const SearchOptions& opt, const Workload& w, const CostM
 
   // Genes moved over: nine, then the fuse gene with fused moves, the wide gene with mixed moves.
   const bool with_period = opt.fused || mixed;
-  std::vector<int> counts(kTriGeneCount.begin(), kTriGeneCount.begin() + (mixed ? kTriGenes : opt.fused ? kTriGenes - 1 : kTriGenesUnfused));
-  if (mixed && !opt.fused) counts[9] = 1;  // fuse 0
-  TriProblem tp{ev, static_cast<int>(counts.size()), with_period, counts};
+  std::vector<int> genes;
+  for (int i = 0; i < kTriGenesUnfused; ++i) genes.push_back(i);
+  if (opt.fused) genes.push_back(kTriGenes - 2);  // fuse
+  if (mixed) genes.push_back(kTriGenes - 1);      // wide
+  TriProblem tp{ev, static_cast<int>(genes.size()), with_period, genes};
   pagmo::problem prob{tp};
   pagmo::population pop{prob, 0u, static_cast<unsigned>(opt.seed)};
   int gen = 0;
@@ -747,7 +789,7 @@ SearchResult run_search(const SearchOptions& opt, const Workload& w, const CostM
     // Generation 0: the start formulation and mutations of it.
     util::Xoshiro256ss rng(opt.seed);
     std::vector<TriGenome> gs = {opt.start};
-    while (static_cast<int>(gs.size()) < opt.population) gs.push_back(mutate(opt.start, tp.counts, rng));
+    while (static_cast<int>(gs.size()) < opt.population) gs.push_back(mutate(opt.start, tp.genes, rng));
     const auto cs = ev->run(gs);
     for (size_t i = 0; i < cs.size(); ++i) pop.push_back(tp.encode(gs[i]), objectives_of(cs[i].fit, tp.with_period));
   }

@@ -33,6 +33,7 @@
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -78,10 +79,13 @@ class CostModel {
   // measure_file, so a rerun finds them. A kind none of whose rows meets the clock takes its
   // fastest row (progress says so; CostBreakdown::period_ps shows the slower clock). Without any
   // current row of a kind: throws synth::SynthError with one line naming the kind and format.
+  // With `wide` (mixed-precision searches): also every kind in the wide format (units() keys
+  // "fp_add@wide", ...) and ru_fp_cvt both ways ("fp_cvt@up": into the wide format, "fp_cvt@down").
   static CostModel build(const std::vector<std::string>& row_paths, const synth::CellLibrary& lib,
                          const num::Format& fmt, double period_ps, const std::string& measure_file = "",
-                         const std::function<void(const std::string&)>& progress = {}, bool fma = false);
-  // The schedule: an FP unit node starts when its last operand is ready and its value is ready
+                         const std::function<void(const std::string&)>& progress = {}, bool fma = false,
+                         const std::optional<num::Format>& wide = std::nullopt);
+  // The schedule (a wide node's registers are the wide format's width): an FP unit node starts when its last operand is ready and its value is ready
   // (stages + 1) cycles later (its output register); selects, gates, neg/abs and constants take no
   // cycle. A value held past the cycle it is ready, for a later consumer or the output alignment,
   // costs a delay line of (cycles x bits) flip-flops (one per value: consumers tap it). Selects
@@ -97,6 +101,7 @@ class CostModel {
  private:
   std::map<std::string, UnitChoice> units_;
   num::Format fmt_;
+  std::optional<num::Format> wide_;
   double period_ps_ = 0;
 };
 
