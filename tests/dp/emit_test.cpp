@@ -73,7 +73,9 @@ void lint(const std::vector<LintCase>& cases) {
   const std::string rtl = std::string(RU_SOURCE_DIR) + "/rtl/";
   for (const LintCase& c : cases) {
     const std::string sv = (t.p / (std::string(c.top) + ".sv")).string();
-    const Graph g = tri_graph(parse_genome_name(c.genome));
+    TriGenome genome = parse_genome_name(c.genome);
+    genome.wide_de = 1, genome.wide_dm = 7;  // mixed-precision genomes (-w): e5m10 with e6m17 inside
+    const Graph g = tri_graph(genome);
     std::ofstream(sv) << emit_sv(g, c.top);
     std::vector<std::string> argv = {"verilator", "--lint-only", "-Wall", "-I" + rtl, "--top-module", c.top};
     for (const auto& f : emit_sources(g)) argv.push_back(rtl + f);
@@ -95,20 +97,23 @@ void lint(const std::vector<LintCase>& cases) {
 constexpr const char* kMt = "mt-q1-i0-p0";                   // ray_tri_mt
 constexpr const char* kRobust = "sv-f0-o0-d0-a0-q0-i0-t1-p0";  // ray_tri_robust_tie
 constexpr const char* kFused = "sv-f0-o0-d0-a0-q0-i0-t1-p0-u2";  // the same with fused dot and cross products
+constexpr const char* kMixed = "sv-f0-o0-d0-a0-q0-i0-t1-p0-w3";  // all of it in the wide format (cvt both ways)
+constexpr const char* kMixedDots = "mt-q1-i0-p0-u1-w1";          // MT, fused dot products in the wide format
 
 // fast: one format, Stages 0 (MT) and beyond the useful maximum (robust: output registers); the
-// fused robust unit at Stages 0 and mid
+// fused robust unit at Stages 0 and mid; the mixed-precision one (wide instances, ru_fp_cvt) mid
 TEST(DpEmit, EmittedUnitsAreLintClean) {
   lint({{"ru_dp_mt", kMt, "-GExpW=5 -GFracW=10", 0},
         {"ru_dp_robust", kRobust, "-GExpW=5 -GFracW=10", 80},
         {"ru_dp_fused", kFused, "-GExpW=5 -GFracW=10", 0},
-        {"ru_dp_fused", kFused, "-GExpW=5 -GFracW=10", 23}});
+        {"ru_dp_fused", kFused, "-GExpW=5 -GFracW=10", 23},
+        {"ru_dp_mixed", kMixed, "-GExpW=5 -GFracW=10", 9}});
 }
 
 // long: the three units, two formats, Stages 0, mid and beyond the maximum
 TEST(LongDpEmit, EmittedUnitsAreLintClean) {
   std::vector<LintCase> cases;
-  for (const char* genome : {kMt, kRobust, kFused})
+  for (const char* genome : {kMt, kRobust, kFused, kMixed, kMixedDots})
     for (const char* fmt : {"-GExpW=5 -GFracW=10", "-GExpW=8 -GFracW=23"})
       for (int stages : {0, 9, 80}) cases.push_back({"ru_dp_unit", genome, fmt, stages});
   lint(cases);
