@@ -5,13 +5,21 @@ The whole long suite takes longer than one working session on the 2-core machine
 records every finished test at once (one JSON line in a state file), so a stopped run loses only
 the tests that were running, and the next invocation runs only what has not passed yet.
 
+    scripts/long_suite.py --commit REV [-j N] [-R REGEX] [--retry-failed]   (the usual way)
     scripts/long_suite.py [--build DIR] [-j N] [-R REGEX] [--retry-failed]
-    scripts/long_suite.py --status [--build DIR]
+    scripts/long_suite.py --status (--commit REV | --build DIR)
 
-State lives in DIR/long-suite/<key>.jsonl; <key> is a hash of the committed tree without README.md
-(so a README-only commit keeps a run's results, any other change starts a new run). A working tree
-with uncommitted changes to tracked files other than README.md is refused: results must belong to
-a commit. The failed tests' output goes to DIR/long-suite/<key>/<test>.log.
+--commit REV runs the suite of that commit in its own worktree (/tmp/rayunits-long/<commit>,
+configured with -DRU_TB_LONG=ON and built first; RU_RTL_CACHE inside it): edits of the working tree
+cannot reach it (the run-time RTL builds of `rayunits rtl` compile the source tree they come from),
+and a later session, on this machine or a fresh one, resumes it with the same command. Its state
+is tests/long_results/<key>.jsonl in this repository: commit it with the code it belongs to.
+Without --commit: the build tree DIR of this working tree, state in DIR/long-suite/<key>.jsonl.
+
+<key> is a hash of the committed tree without README.md (a README-only commit keeps a run's
+results, any other change is a new run). Without --commit, a working tree with uncommitted changes
+to tracked files other than README.md is refused: results must belong to a commit. The failed
+tests' output goes to <state>/<key>/<test>.log (tests/long_results/<key>/ with --commit).
 
 Scheduling: a test takes as many of the N slots as its PROCESSORS property (at most N); fixture
 setup tests run before the tests that require them, once per run (a passed setup is not repeated:
@@ -40,17 +48,43 @@ def git(root, *args):
                           text=True).stdout
 
 
-def code_key(root):
-    """Hash of the committed tree without README.md; refuses a dirty tracked tree."""
-    dirty = [line[3:] for line in git(root, "status", "--porcelain", "--untracked-files=no")
-             .splitlines() if line[3:] != "README.md"]
-    if dirty:
-        fail(f"uncommitted changes to tracked files ({', '.join(dirty[:3])}"
-             f"{', ...' if len(dirty) > 3 else ''}); commit first: results must belong to a commit")
-    tree = [line for line in git(root, "ls-tree", "-r", "HEAD").splitlines()
+def code_key(root, rev="HEAD", check_dirty=True):
+    """Hash of the committed tree of rev without README.md; refuses a dirty tracked tree."""
+    if check_dirty:
+        dirty = [line[3:] for line in git(root, "status", "--porcelain", "--untracked-files=no")
+                 .splitlines() if line[3:] != "README.md"]
+        if dirty:
+            fail(f"uncommitted changes to tracked files ({', '.join(dirty[:3])}"
+                 f"{', ...' if len(dirty) > 3 else ''}); commit first: results must belong to a commit")
+    tree = [line for line in git(root, "ls-tree", "-r", rev).splitlines()
             if line.split("\t", 1)[1] != "README.md"]
-    commit = git(root, "rev-parse", "--short", "HEAD").strip()
+    commit = git(root, "rev-parse", "--short", rev).strip()
     return hashlib.sha1("\n".join(tree).encode()).hexdigest()[:12], commit
+
+
+def worktree(root, commit, build_it):
+    """The worktree of commit under /tmp/rayunits-long, configured and (build_it) built."""
+    wt = os.path.join(os.environ.get("RU_LONG_WORKTREES", "/tmp/rayunits-long"), commit)
+    if not os.path.exists(os.path.join(wt, ".git")):
+        os.makedirs(os.path.dirname(wt), exist_ok=True)
+        subprocess.run(["git", "-C", root, "worktree", "prune"], check=False)
+        r = subprocess.run(["git", "-C", root, "worktree", "add", "--detach", wt, commit],
+                           capture_output=True, text=True)
+        if r.returncode != 0:
+            fail(f"cannot make the worktree {wt}: {r.stderr.strip().splitlines()[-1:]}")
+    build = os.path.join(wt, "build")
+    if build_it:
+        print(f"long_suite: building {commit} in {build} (configure -DRU_TB_LONG=ON, ninja)", flush=True)
+        steps = [["cmake", "-S", wt, "-B", build, "-G", "Ninja", "-DCMAKE_BUILD_TYPE=Release",
+                  "-DRU_TB=ON", "-DRU_TB_LONG=ON"], ["ninja", "-C", build]]
+        log = os.path.join(wt, "long_suite_build.log")
+        # ccache hashes paths relative to the worktree: worktrees of other commits share its entries
+        env = dict(os.environ, CCACHE_BASEDIR=wt)
+        with open(log, "a") as f:
+            for step in steps:
+                if subprocess.run(step, stdout=f, stderr=subprocess.STDOUT, env=env).returncode != 0:
+                    fail(f"building {commit} failed: {' '.join(step[:2])} ... (log {log})")
+    return wt, build
 
 
 def list_tests(build, regex):
@@ -193,7 +227,20 @@ def status(tests, state_path, key, commit):
     return 0 if not missing and not by["failed"] else 1
 
 
+RUNNER = None  # the running Runner, for the signal handler
+
+
+def on_signal(*_):
+    if RUNNER is None:  # before any test started: nothing to record
+        print("long_suite: stopped", file=sys.stderr)
+        sys.exit(130)
+    RUNNER.stop()
+
+
 def main():
+    global RUNNER
+    signal.signal(signal.SIGINT, on_signal)
+    signal.signal(signal.SIGTERM, on_signal)
     root = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--build", default=os.environ.get("RU_BUILD_DIR", os.path.join(root, "build")),
@@ -202,22 +249,37 @@ def main():
     ap.add_argument("-R", dest="regex", help="only tests whose names match (ctest -R)")
     ap.add_argument("--retry-failed", action="store_true", help="run failed tests again")
     ap.add_argument("--status", action="store_true", help="print what has run; run nothing")
+    ap.add_argument("--commit", help="run the suite of this commit in its own worktree (state checked in)")
     ap.add_argument("--repo", default=root, help=argparse.SUPPRESS)  # the tests' scratch repository
     args = ap.parse_args()
     if args.j < 1:
         fail(f"-j {args.j}: needs at least one slot")
-    build = os.path.abspath(args.build)
+    if args.commit:
+        r = subprocess.run(["git", "-C", args.repo, "rev-parse", "--verify", "--quiet",
+                            args.commit + "^{commit}"], capture_output=True, text=True)
+        if r.returncode != 0:
+            fail(f"--commit {args.commit}: not a commit of {args.repo}")
+        key, commit = code_key(args.repo, args.commit, check_dirty=False)
+        wt, build = worktree(args.repo, commit, build_it=not args.status)
+        os.environ["RU_RTL_CACHE"] = os.path.join(wt, "rtl-cache")
+        state_dir = os.path.join(args.repo, "tests", "long_results")
+    else:
+        build = os.path.abspath(args.build)
+        key, commit = code_key(args.repo)
+        state_dir = os.path.join(build, "long-suite")
+    state_path = os.path.join(state_dir, key + ".jsonl")
+    if args.status and args.commit and not os.path.exists(os.path.join(build, "CTestTestfile.cmake")):
+        # not built on this machine: what the checked-in state says
+        tests = [{"name": n} for n in read_state(state_path)]
+        sys.exit(status(tests, state_path, key, commit) if tests else fail(f"no state {state_path}"))
     if not os.path.exists(os.path.join(build, "CTestTestfile.cmake")):
         fail(f"{build} is not a configured build tree (expected CTestTestfile.cmake); "
              "configure with -DRU_TB_LONG=ON and build first")
-    key, commit = code_key(args.repo)
     tests = list_tests(build, args.regex)
     if not tests:
         fail(f"no long tests in {build}" + (f" match -R {args.regex}" if args.regex else "")
              + " (was it configured with -DRU_TB_LONG=ON?)")
-    state_dir = os.path.join(build, "long-suite")
     os.makedirs(state_dir, exist_ok=True)
-    state_path = os.path.join(state_dir, key + ".jsonl")
     state = read_state(state_path)
     if args.status:
         sys.exit(status(tests, state_path, key, commit))
@@ -232,8 +294,7 @@ def main():
     print(f"long_suite: {len(tests)} long tests, {len(tests) - len(todo)} already recorded for "
           f"code key {key}; running {len(todo)} with -j {args.j} (state {state_path})", flush=True)
     runner = Runner(build, state_path, os.path.join(state_dir, key), args.j, commit)
-    signal.signal(signal.SIGINT, runner.stop)
-    signal.signal(signal.SIGTERM, runner.stop)
+    RUNNER = runner
     runner.record({"session": "start", "at": now(), "commit": commit, "jobs": args.j})
     t0 = time.monotonic()
     runner.run(setups)

@@ -6,7 +6,7 @@
 set -euo pipefail
 RUNNER="$(cd "$(dirname "$0")/../.." && pwd)/scripts/long_suite.py"
 W="$(mktemp -d)"; trap 'rm -rf "$W"' EXIT
-check() { if ! eval "$1"; then echo "FAILED: $1"; exit 1; fi; }
+check() { if ! eval "$1"; then echo "FAILED: $1"; tail -5 "$W"/o* 2>/dev/null; exit 1; fi; }
 mkdir -p "$W/src"
 cat > "$W/src/CMakeLists.txt" <<'CM'
 cmake_minimum_required(VERSION 3.20)
@@ -29,7 +29,8 @@ set_tests_properties(L.passes PROPERTIES PROCESSORS 4)
 CM
 git -C "$W/src" init -q && git -C "$W/src" add -A && git -C "$W/src" -c user.email=t@t -c user.name=t commit -qm scratch
 cmake -S "$W/src" -B "$W/b" > /dev/null
-R=(python3 "$RUNNER" --repo "$W/src" --build "$W/b" -j 2)
+PY=python3; [[ -x /usr/bin/python3 ]] && PY=/usr/bin/python3  # not a pyenv shim: signals reach the runner
+R=($PY "$RUNNER" --repo "$W/src" --build "$W/b" -j 2)
 
 # 1. A stopped run: the slow test is interrupted and recorded nowhere.
 "${R[@]}" -R 'L.slow' > "$W/o0" 2>&1 & pid=$!
@@ -64,4 +65,18 @@ check 'grep -q "5 passed" "$W/o5"'
 echo "# changed" >> "$W/src/CMakeLists.txt"
 set +e; "${R[@]}" --status > "$W/o6" 2>&1; rc=$?; set -e
 check '[[ $rc == 2 ]] && [[ $(wc -l < "$W/o6") == 1 ]] && grep -q "uncommitted changes to tracked files (CMakeLists.txt)" "$W/o6"'
+# 5. --commit: the suite of a commit in its own worktree (working-tree edits do not matter), the
+# state under tests/long_results/ of the repository, resumed by the same command.
+git -C "$W/src" checkout -q -- CMakeLists.txt
+sha=$(git -C "$W/src" rev-parse --short HEAD)
+echo "# an edit of the working tree" >> "$W/src/CMakeLists.txt"
+export RU_LONG_WORKTREES="$W/wt"
+set +e; $PY "$RUNNER" --repo "$W/src" --commit "$sha" -j 2 -R "L.(passes|fails|skips)" > "$W/o7" 2>&1; rc=$?; set -e
+check '[[ $rc == 1 ]] && [[ -d "$W/wt/$sha/build" ]] && grep -q "1 failed" "$W/o7"'
+check 'ls "$W"/src/tests/long_results/*.jsonl > /dev/null && ! grep -q "an edit" "$W/wt/$sha/CMakeLists.txt"'
+set +e; $PY "$RUNNER" --repo "$W/src" --commit "$sha" -R "L.(passes|fails|skips)" > "$W/o8" 2>&1; rc=$?; set -e
+check '[[ $rc == 1 ]] && grep -q "running 0 with" "$W/o8"'
+set +e; $PY "$RUNNER" --repo "$W/src" --commit nosuchrev > "$W/o9" 2>&1; rc=$?; set -e
+check '[[ $rc == 2 ]] && grep -q "not a commit" "$W/o9"'
+git -C "$W/src" worktree remove --force "$W/wt/$sha"
 echo "long_suite runner: all checks passed"
