@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstring>
 #include <string>
 #include <vector>
 
@@ -20,16 +19,8 @@ using ru::num::Format;
 using ru::num::Soft;
 using ru::num::SoftScope;
 
-uint32_t fbits(float x) {
-  uint32_t b;
-  std::memcpy(&b, &x, 4);
-  return b;
-}
-float from_fbits(uint32_t b) {
-  float x;
-  std::memcpy(&x, &b, 4);
-  return x;
-}
+uint64_t fbits(float x) { return ru::num::fp_bits(x); }
+float from_fbits(uint64_t b) { return ru::num::fp_from_bits<float>(b); }
 
 // d = a*b - c*e (a 2x2 determinant, the shape of a cross-product component), first computed in
 // the wide format and rounded back; then the larger of d and a, in the unit's format; a wide
@@ -102,8 +93,7 @@ TEST(DpMixed, FloatWithDoubleStepsEqualsNativeBitForBit) {
     ASSERT_EQ(out("pos").b, n.pos);
     // the wide nodes hold double bits
     const int d = ns[g.output_node("d")].a;
-    double D;
-    std::memcpy(&D, &v[d].v.bits, 8);
+    const double D = ru::num::fp_from_bits<double>(v[d].v.bits);
     ASSERT_TRUE(std::isnan(D) || D == static_cast<double>(x[0]) * x[1] - static_cast<double>(x[2]) * x[3]);
     // the planted error, one format throughout, is caught by the same comparison
     if (evaluate(plain, in)[plain.output_node("d")].v.bits != fbits(n.d)) ++caught;

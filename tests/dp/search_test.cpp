@@ -279,6 +279,19 @@ struct Rows {
     add("fp_div", 2, 3980, 217448);
     add("fp_cmp", 0, 2490, 6335);
   }
+  // For mixed precision e8m23 inside e7m16: the four kinds at e8m23 and ru_fp_cvt both ways (IntW 2).
+  void wide_e8m23() {
+    const std::string f = format;
+    format = "e8m23";
+    add("fp_add", 2, 3900, 80000);
+    add("fp_mul", 3, 3950, 170000);
+    add("fp_div", 4, 3990, 400000);
+    add("fp_cmp", 0, 2800, 8000);
+    add("fp_cvt", 0, 3000, 9000, true, {{"InExpW", 7}, {"InFracW", 16}, {"InSubnormals", 1}, {"IntW", 2}});
+    format = "e7m16";
+    add("fp_cvt", 1, 3500, 7000, true, {{"InExpW", 8}, {"InFracW", 23}, {"InSubnormals", 1}, {"IntW", 2}});
+    format = f;
+  }
 };
 
 TEST(SearchCost, PicksTheSmallestCurrentRowMeetingTheClockAndSchedules) {
@@ -399,16 +412,9 @@ TEST(SearchFront, ParetoAndEpsilonBoxes) {
 TEST(SearchCost, MixedGraphsTakeTheWideRowsAndConversions) {
   Rows r;
   r.realistic();
-  r.format = "e8m23";
-  r.add("fp_add", 2, 3900, 80000);
-  r.add("fp_mul", 3, 3950, 170000);
-  r.add("fp_div", 4, 3990, 400000);
-  r.add("fp_cmp", 0, 2800, 8000);
-  const nlohmann::json from_narrow = {{"InExpW", 7}, {"InFracW", 16}, {"InSubnormals", 1}, {"IntW", 2}};
-  r.add("fp_cvt", 0, 3000, 9000, true, from_narrow);
-  r.add("fp_cvt", 0, 2000, 5000, true, {{"InExpW", 7}, {"InFracW", 16}, {"InSubnormals", 1}, {"IntW", 32}});  // other IntW
-  r.format = "e7m16";
-  r.add("fp_cvt", 1, 3500, 7000, true, {{"InExpW", 8}, {"InFracW", 23}, {"InSubnormals", 1}, {"IntW", 2}});
+  r.wide_e8m23();
+  r.format = "e8m23";  // a faster, smaller row with another IntW: not the emitter's conversion
+  r.add("fp_cvt", 0, 2000, 5000, true, {{"InExpW", 7}, {"InFracW", 16}, {"InSubnormals", 1}, {"IntW", 32}});
   const auto& lib = ru::synth::cell_library("osu018");
   const Format f = Format::parse("e7m16");
   const CostModel m = CostModel::build({r.dir.string()}, lib, f, 4000, "", {}, false, Format::parse("e8m23"));
@@ -450,6 +456,18 @@ struct Fixture {
     w = make_workload(records(3, 384), f, ru::units::builtin_mesh("icosphere"), 120, 3);
   }
 };
+
+// Two generations of eight from Fig. 3.6, seed 5, into out.
+SearchOptions tiny_search(const fs::path& out) {
+  SearchOptions o;
+  o.start = fig36_genome();
+  o.population = 8;
+  o.seed = 5;
+  o.generations = 2;
+  o.threads = 2;
+  o.out_dir = out.string();
+  return o;
+}
 
 std::vector<std::string> front_names(const SearchResult& r) {
   std::vector<std::string> v;
@@ -509,13 +527,7 @@ TEST(Search, FusedMovesOnlyWhenAsked) {
                                         4000, "", {}, true);
   const fs::path base = fs::temp_directory_path() / "ru-search-fused";
   fs::remove_all(base);
-  SearchOptions o;
-  o.start = fig36_genome();
-  o.population = 8;
-  o.seed = 5;
-  o.generations = 2;
-  o.threads = 2;
-  o.out_dir = (base / "plain").string();
+  SearchOptions o = tiny_search(base / "plain");
   run_search(o, fx.w, cm, {{"test", 3}});
   auto fused_evaluated = [&](const fs::path& dir) {
     std::ifstream in(dir / "evaluations.jsonl");
@@ -542,26 +554,13 @@ TEST(Search, MixedMovesOnlyWhenAsked) {
   Fixture fx;
   Rows rows;
   rows.realistic();
-  rows.format = "e8m23";
-  rows.add("fp_add", 2, 3900, 80000);
-  rows.add("fp_mul", 3, 3950, 170000);
-  rows.add("fp_div", 4, 3990, 400000);
-  rows.add("fp_cmp", 0, 2800, 8000);
-  rows.add("fp_cvt", 0, 3000, 9000, true, {{"InExpW", 7}, {"InFracW", 16}, {"InSubnormals", 1}, {"IntW", 2}});
-  rows.format = "e7m16";
-  rows.add("fp_cvt", 1, 3500, 7000, true, {{"InExpW", 8}, {"InFracW", 23}, {"InSubnormals", 1}, {"IntW", 2}});
+  rows.wide_e8m23();
   const CostModel cm = CostModel::build({rows.dir.string()}, ru::synth::cell_library("osu018"), Format::parse("e7m16"),
                                         4000, "", {}, false, Format::parse("e8m23"));
   const fs::path base = fs::temp_directory_path() / "ru-search-mixed";
   fs::remove_all(base);
-  SearchOptions o;
-  o.start = fig36_genome();
-  o.population = 8;
-  o.seed = 5;
-  o.generations = 2;
-  o.threads = 2;
+  SearchOptions o = tiny_search(base / "mixed");
   o.wide_de = 1, o.wide_dm = 7;
-  o.out_dir = (base / "mixed").string();
   run_search(o, fx.w, cm, {{"test", 4}});
   int mixed = 0, fused = 0;
   {
