@@ -22,6 +22,7 @@ t_enter / t_exit, false misses and false hits; --plot draws all 16 designs (DIR/
 usage: scripts/search_table.py DIR [--plot FILE.png] [--md FILE]
 """
 import csv
+import math
 import glob
 import json
 import os
@@ -159,22 +160,30 @@ def main(argv):
     if not os.path.exists(path):
         sys.exit(f"search_table.py: no {path} (run rayunits search tri --out {d} first)")
     rows = list(csv.DictReader(open(path)))
-    lines = []
-    emit = lines.append  # written to --md FILE or standard output below
-    emit("| design | role | area µm² (estimate) | latency | mean rel. err. | max rel. err. "
-          "| leaks | false misses | double hits | false hits | RTL |")
-    emit("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|")
-    for r in rows:
-        role = r["role"].replace("reference:", "hand: ")
-        emit(f"| `{r['genome']}` | {role} | {float(r['area_um2']):,.0f} | {r['latency']} "
-              f"| {float(r['mean_rel']):.3g} | {float(r['max_rel']):.3g} | {r['leaks']} | {r['false_misses']} "
-              f"| {r['double_hits']} | {r['false_hits']} | {r.get('rtl', '') or ''} |")
-    fitness = {}
+    fitness, clock_mhz = {}, None
     fj = os.path.join(d, "front.json")
     if os.path.exists(fj):
         f = json.load(open(fj))
         for e in f.get("front", []) + f.get("references", []):
             fitness[e["genome"]] = e.get("fitness", {})
+        # searches with the clock period as an objective (--fused, --mixed): the cost model's clock
+        if any(str(o).startswith("period_ps") for o in f.get("objectives", [])):
+            clock_mhz = 1e6 / f["context"]["period_ps"]
+    lines = []
+    emit = lines.append  # written to --md FILE or standard output below
+    clock_head = " clock MHz (estimate) |" if clock_mhz else ""
+    emit("| design | role | area µm² (estimate) | latency | mean rel. err. | max rel. err. "
+          "| leaks | false misses | double hits | false hits | RTL |" + clock_head)
+    emit("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|" + ("---:|" if clock_mhz else ""))
+    for r in rows:
+        role = r["role"].replace("reference:", "hand: ")
+        clock = ""
+        if clock_mhz:
+            per = fitness.get(r["genome"], {}).get("period_ps")
+            clock = f" {math.floor(min(clock_mhz, 1e6 / per) + 1e-9)} |" if per else " |"  # at most
+        emit(f"| `{r['genome']}` | {role} | {float(r['area_um2']):,.0f} | {r['latency']} "
+              f"| {float(r['mean_rel']):.3g} | {float(r['max_rel']):.3g} | {r['leaks']} | {r['false_misses']} "
+              f"| {r['double_hits']} | {r['false_hits']} | {r.get('rtl', '') or ''} |" + clock)
     lines += synth_table(d, rows, fitness)
     write_text("\n".join(lines) + "\n", argv)
     if "--plot" in argv:
