@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "../common/files.hpp"
+#include "../common/run_rayunits.hpp"
 #include "../common/temp_dir.hpp"
 #include "rayunits/dp/emit.hpp"
 #include "rayunits/dp/formulas.hpp"
@@ -22,6 +23,7 @@
 namespace {
 
 using namespace ru::dp;
+namespace fs = std::filesystem;
 
 // The level kinds of the hand-written units, read from their RTL (the `Kinds` localparams of
 // rtl/ru_ray_tri_mt.sv and rtl/ru_ray_tri_robust.sv: ru_fp_pkg::K* tokens, highest level first).
@@ -117,6 +119,47 @@ TEST(LongDpEmit, EmittedUnitsAreLintClean) {
     for (const char* fmt : {"-GExpW=5 -GFracW=10", "-GExpW=8 -GFracW=23"})
       for (int stages : {0, 9, 80}) cases.push_back({"ru_dp_unit", genome, fmt, stages});
   lint(cases);
+}
+
+// A mixed-precision unit (Fig. 3.6 with its dot products in e6m17 inside e5m10) as a run-time
+// registry unit passes the cycle-by-cycle scoreboard (wide instances and ru_fp_cvt against the
+// graph's Soft evaluation); the same unit with one down-conversion rounding toward zero fails it.
+TEST(LongDpEmit, MixedUnitPassesTheScoreboardAndAPlantedRoundingIsCaught) {
+  if (ru::util::find_program("verilator").empty()) GTEST_SKIP() << "verilator not installed";
+  ru::test::TempDir t("ru_dp_mixed");
+  const fs::path dd = t.p / "designs", rtl = t.p / "rtl";
+  fs::create_directories(dd);
+  fs::create_directories(rtl);
+  for (const auto& e : fs::directory_iterator(std::string(RU_SOURCE_DIR) + "/rtl"))
+    if (e.path().extension() == ".sv" || e.path().extension() == ".svh") fs::copy_file(e.path(), rtl / e.path().filename());
+  TriGenome genome = parse_genome_name("sv-f0-o0-d0-a0-q0-i0-t1-p0-w1");
+  genome.wide_de = 1, genome.wide_dm = 7;
+  const Graph g = tri_graph(genome);
+  std::string sv = emit_sv(g, "ru_dp_mixed");
+  const std::string good = ".Subnormals(Subnormals), .Round(Round), .InExpW(WExpW)";  // a down-conversion
+  const size_t at = sv.find(good);
+  ASSERT_NE(at, std::string::npos);
+  std::string planted = sv;
+  planted.replace(at, good.size(), ".Subnormals(Subnormals), .Round(1), .InExpW(WExpW)");
+  for (const char* name : {"mixed", "planted"}) {
+    std::ofstream(dd / (std::string(name) + ".dp")) << g.print();
+    std::string text = std::string(name) == "mixed" ? sv : planted;
+    if (std::string(name) == "planted") text = std::regex_replace(text, std::regex("ru_dp_mixed\\b"), "ru_dp_planted");
+    std::ofstream(rtl / ("ru_dp_" + std::string(name) + ".sv")) << text;
+    std::ofstream(rtl / ("ru_dp_" + std::string(name) + ".f")) << emit_filelist("ru_dp_" + std::string(name), g);
+  }
+  ::setenv("RU_DP_DESIGNS", dd.c_str(), 1);
+  auto rtl_run = [&](const std::string& unit) {
+    return ru::test::run_rayunits({"rtl", unit, "--format", "e5m10", "--stages", "max", "--rtl", rtl.string(),
+                                   "--vectors", "4000"},
+                                  3600);
+  };
+  const auto ok = rtl_run("dp_mixed");
+  const auto bad = rtl_run("dp_planted");
+  ::unsetenv("RU_DP_DESIGNS");
+  EXPECT_EQ(ok.code, 0) << ok.out << ok.err;
+  EXPECT_EQ(bad.code, 1) << bad.out << bad.err;
+  EXPECT_NE(bad.out.find("MISMATCH"), std::string::npos) << bad.out;
 }
 
 // The registry's dp_* units are the emitter's output, checked in (regenerate: rayunits dp emit
