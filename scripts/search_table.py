@@ -19,7 +19,13 @@ A directory of `rayunits search box` (front.json context kind "box") gets the ra
 instead: reported and hand designs with area, latency, the model's clock period, the errors of
 t_enter / t_exit, false misses and false hits; --plot draws all 16 designs (DIR/all.csv).
 
-usage: scripts/search_table.py DIR [--plot FILE.png] [--md FILE]
+With --genomes G1,G2,... the table is of the named designs instead, reported or not: their rows
+in DIR/evaluations.jsonl (the evaluations of the search's context, that of its reported designs)
+or, for the hand designs, DIR/front.json; the model's clock at most the search's (--clock); RTL
+"pass"/"FAIL" where the design was reported and verified. A name the search did not evaluate is
+an error (one line, exit 2).
+
+usage: scripts/search_table.py DIR [--plot FILE.png] [--md FILE] [--genomes G1,G2,...]
 """
 import csv
 import math
@@ -149,6 +155,39 @@ def box_main(d, argv):
         save_plot(fig, out)
 
 
+def genomes_main(d, names, argv):
+    """The table of named designs from DIR/evaluations.jsonl (--genomes)."""
+    rows = list(csv.DictReader(open(os.path.join(d, "front.csv"))))
+    rtl = {r["genome"]: r.get("rtl", "") or "" for r in rows}
+    front = json.load(open(os.path.join(d, "front.json")))
+    target_ps = front["context"]["period_ps"]
+    recs = [json.loads(line) for line in open(os.path.join(d, "evaluations.jsonl")) if line.strip()]
+    # the search's context: that of the reported designs' evaluations (a resumed search with a
+    # changed cost model or workload evaluates again in a new context; older lines are stale)
+    contexts = [r["context"] for r in recs if r["genome"] in rtl]
+    if not contexts:
+        sys.exit(f"search_table.py: {d}/evaluations.jsonl has none of the reported designs")
+    ctx = max(set(contexts), key=contexts.count)
+    fit = {r["genome"]: r["fitness"] for r in recs if r["context"] == ctx}
+    hand = {e["genome"]: e["name"] for e in front.get("references", [])}
+    fit.update({e["genome"]: e["fitness"] for e in front.get("references", [])})  # evaluated beside the search
+    missing = [n for n in names if n not in fit]
+    if missing:
+        print(f"search_table.py: not evaluated in {d}: {', '.join(missing)} "
+              f"({len(fit)} designs were; names as in front.csv)", file=sys.stderr)
+        sys.exit(2)
+    lines = ["| design | area µm² (estimate) | clock MHz (estimate) | latency | mean rel. err. | max rel. err. "
+             "| leaks | false misses | double hits | RTL |",
+             "|---|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
+    for n in names:
+        f = fit[n]
+        mhz = math.floor(1e6 / max(target_ps, f["period_ps"]) + 1e-9)
+        lines.append(f"| `{n}`{f' (hand: {hand[n]})' if n in hand else ''} | {f['area_um2']:,.0f} | {mhz} | {f['latency']} | {f['mean_rel']:.3g} "
+                     f"| {f['max_rel']:.3g} | {f['leaks']} | {f['false_misses']} | {f['double_hits']} "
+                     f"| {rtl.get(n, '')} |")
+    write_text("\n".join(lines) + "\n", argv)
+
+
 def main(argv):
     if len(argv) < 2 or argv[1].startswith("-"):
         sys.exit("usage: search_table.py DIR [--plot FILE.png]")
@@ -159,6 +198,11 @@ def main(argv):
     path = os.path.join(d, "front.csv")
     if not os.path.exists(path):
         sys.exit(f"search_table.py: no {path} (run rayunits search tri --out {d} first)")
+    if "--genomes" in argv:
+        i = argv.index("--genomes")
+        if i + 1 >= len(argv) or not argv[i + 1].strip(","):
+            sys.exit("search_table.py: --genomes needs a comma-separated list of design names")
+        return genomes_main(d, [n for n in argv[i + 1].split(",") if n], argv)
     rows = list(csv.DictReader(open(path)))
     fitness, clock_mhz = {}, None
     fj = os.path.join(d, "front.json")
