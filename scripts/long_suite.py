@@ -196,11 +196,69 @@ class Runner:
         with self.lock:
             self.stopping = True
             for p in self.procs:
-                try:
-                    os.killpg(p.pid, signal.SIGTERM)
-                except ProcessLookupError:
-                    pass
+                kill_tree(p.pid)
             self.lock.notify_all()
+
+
+def descendants(pid):
+    """pid and every process below it (from /proc: parents of every process)."""
+    children = {}
+    for d in os.listdir("/proc"):
+        if d.isdigit():
+            try:
+                with open(f"/proc/{d}/stat") as f:
+                    ppid = int(f.read().rsplit(")", 1)[1].split()[1])
+                children.setdefault(ppid, []).append(int(d))
+            except (OSError, ValueError, IndexError):
+                pass  # gone meanwhile
+    out, todo = [], [pid]
+    while todo:
+        q = todo.pop()
+        out.append(q)
+        todo += children.get(q, [])
+    return out
+
+
+def kill_tree(pid):
+    """Stops a test and everything it started. Children of a test may run in their own process
+    groups or sessions (rayunits starts yosys, verilator, ... so): killing ctest's group leaves
+    them running as orphans, reparented out of reach. So: freeze the whole tree (SIGSTOP until no
+    new process appears, a frozen process starts none), SIGTERM and SIGCONT every member (their
+    handlers clean up temporary directories), SIGKILL what is left after a grace period."""
+    seen = []
+    for _ in range(10):
+        tree = descendants(pid)
+        new = [q for q in tree if q not in seen]
+        if not new:
+            break
+        for q in new:
+            try:
+                os.kill(q, signal.SIGSTOP)
+            except ProcessLookupError:
+                pass
+        seen += new
+    for sig in (signal.SIGTERM, signal.SIGCONT):
+        for q in seen:
+            try:
+                os.kill(q, sig)
+            except ProcessLookupError:
+                pass
+    deadline = time.monotonic() + 5
+    while time.monotonic() < deadline and any(os.path.exists(f"/proc/{q}") and not zombie(q) for q in seen):
+        time.sleep(0.1)
+    for q in seen:
+        try:
+            os.kill(q, signal.SIGKILL)
+        except ProcessLookupError:
+            pass
+
+
+def zombie(pid):
+    try:
+        with open(f"/proc/{pid}/stat") as f:
+            return f.read().rsplit(")", 1)[1].split()[0] == "Z"
+    except OSError:
+        return True
 
 
 def status(tests, state_path, key, commit):

@@ -18,7 +18,7 @@ add_test(NAME L.fails_until_fixed COMMAND sh -c "echo planted failure; test -e $
 add_test(NAME L.setup COMMAND sh -c "touch ${B}/fixture")
 add_test(NAME L.needs_setup COMMAND sh -c "test -e ${B}/fixture")
 add_test(NAME L.skips COMMAND sh -c "exit 77")
-add_test(NAME L.slow COMMAND sh -c "test -e ${B}/slow.go || sleep 30")
+add_test(NAME L.slow COMMAND sh -c "test -e ${B}/slow.go || { setsid sleep 300 & echo $! > ${B}/orphan.pid; sleep 30; }")
 add_test(NAME fast COMMAND true)
 set_tests_properties(L.passes L.fails_until_fixed L.setup L.needs_setup L.skips L.slow
                      PROPERTIES LABELS long)
@@ -32,11 +32,14 @@ cmake -S "$W/src" -B "$W/b" > /dev/null
 PY=python3; [[ -x /usr/bin/python3 ]] && PY=/usr/bin/python3  # not a pyenv shim: signals reach the runner
 R=($PY "$RUNNER" --repo "$W/src" --build "$W/b" -j 2)
 
-# 1. A stopped run: the slow test is interrupted and recorded nowhere.
+# 1. A stopped run: the slow test is interrupted and recorded nowhere, its whole process tree stopped.
 "${R[@]}" -R 'L.slow' > "$W/o0" 2>&1 & pid=$!
 sleep 2; kill -TERM $pid; set +e; wait $pid; rc=$?; set -e
 check '[[ $rc == 130 ]]'
 check '! grep -q "\"L.slow\"" "$W"/b/long-suite/*.jsonl'
+# ... and what it started in a session of its own (as rayunits starts yosys) is stopped with it
+gone() { local st; st=$(sed 's/.*) //' "/proc/$1/stat" 2>/dev/null | cut -d' ' -f1); [[ -z $st || $st == Z ]]; }  # a zombie is dead
+check '[[ -s "$W/b/orphan.pid" ]] && gone "$(cat "$W/b/orphan.pid")"'
 
 # 2. The whole run: one failure (exit 1), its log kept; the setup before its user; 'fast' not run.
 touch "$W/b/slow.go"
