@@ -98,6 +98,11 @@ def synth_table(d, rows, fitness):
             "| STA Fmax | row |", "|---|---:|---:|---:|---:|---:|---:|---|"] + out
 
 
+def model_mhz(target_ps, period_ps):
+    """The cost model's clock of a design in MHz, floored: its slowest unit's, at most the search's."""
+    return math.floor(1e6 / max(target_ps, period_ps) + 1e-9)
+
+
 def write_text(text, argv):
     """The Markdown to --md FILE, or to standard output."""
     if "--md" in argv:
@@ -181,7 +186,7 @@ def genomes_main(d, names, argv):
              "|---|---:|---:|---:|---:|---:|---:|---:|---:|---|"]
     for n in names:
         f = fit[n]
-        mhz = math.floor(1e6 / max(target_ps, f["period_ps"]) + 1e-9)
+        mhz = model_mhz(target_ps, f["period_ps"])
         lines.append(f"| `{n}`{f' (hand: {hand[n]})' if n in hand else ''} | {f['area_um2']:,.0f} | {mhz} | {f['latency']} | {f['mean_rel']:.3g} "
                      f"| {f['max_rel']:.3g} | {f['leaks']} | {f['false_misses']} | {f['double_hits']} "
                      f"| {rtl.get(n, '')} |")
@@ -212,7 +217,8 @@ def main(argv):
             fitness[e["genome"]] = e.get("fitness", {})
         # searches with the clock period as an objective (--fused, --mixed): the cost model's clock
         if any(str(o).startswith("period_ps") for o in f.get("objectives", [])):
-            clock_mhz = 1e6 / f["context"]["period_ps"]
+            target_ps = f["context"]["period_ps"]
+            clock_mhz = 1e6 / target_ps
     lines = []
     emit = lines.append  # written to --md FILE or standard output below
     clock_head = " clock MHz (estimate) |" if clock_mhz else ""
@@ -224,7 +230,7 @@ def main(argv):
         clock = ""
         if clock_mhz:
             per = fitness.get(r["genome"], {}).get("period_ps")
-            clock = f" {math.floor(min(clock_mhz, 1e6 / per) + 1e-9)} |" if per else " |"  # at most
+            clock = f" {model_mhz(target_ps, per)} |" if per else " |"
         emit(f"| `{r['genome']}` | {role} | {float(r['area_um2']):,.0f} | {r['latency']} "
               f"| {float(r['mean_rel']):.3g} | {float(r['max_rel']):.3g} | {r['leaks']} | {r['false_misses']} "
               f"| {r['double_hits']} | {r['false_hits']} | {r.get('rtl', '') or ''} |" + clock)
