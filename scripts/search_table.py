@@ -25,7 +25,11 @@ or, for the hand designs, DIR/front.json; the model's clock at most the search's
 "pass"/"FAIL" where the design was reported and verified. A name the search did not evaluate is
 an error (one line, exit 2).
 
-usage: scripts/search_table.py DIR [--plot FILE.png] [--md FILE] [--genomes G1,G2,...]
+With --pairs (a search with --mixed) every evaluated mixed design beside its unmixed twin (the same
+genome without -wN) and its w2 sibling: area and mean-error ratios, one line each, then the range
+of each ratio per w (the README's mixed-precision figures).
+
+usage: scripts/search_table.py DIR [--plot FILE.png] [--md FILE] [--genomes G1,G2,...] [--pairs]
 """
 import csv
 import math
@@ -160,12 +164,12 @@ def box_main(d, argv):
         save_plot(fig, out)
 
 
-def genomes_main(d, names, argv):
-    """The table of named designs from DIR/evaluations.jsonl (--genomes)."""
+def search_fitness(d):
+    """(fitness by genome of the search's evaluations and hand designs, RTL status by reported
+    genome, hand design names, front.json)."""
     rows = list(csv.DictReader(open(os.path.join(d, "front.csv"))))
     rtl = {r["genome"]: r.get("rtl", "") or "" for r in rows}
     front = json.load(open(os.path.join(d, "front.json")))
-    target_ps = front["context"]["period_ps"]
     recs = [json.loads(line) for line in open(os.path.join(d, "evaluations.jsonl")) if line.strip()]
     # the search's context: that of the reported designs' evaluations (a resumed search with a
     # changed cost model or workload evaluates again in a new context; older lines are stale)
@@ -176,6 +180,36 @@ def genomes_main(d, names, argv):
     fit = {r["genome"]: r["fitness"] for r in recs if r["context"] == ctx}
     hand = {e["genome"]: e["name"] for e in front.get("references", [])}
     fit.update({e["genome"]: e["fitness"] for e in front.get("references", [])})  # evaluated beside the search
+    return fit, rtl, hand, front
+
+
+def pairs_main(d, argv):
+    """Mixed designs against their twins (--pairs)."""
+    fit = search_fitness(d)[0]
+    lines, ranges = [], {}
+    for g in sorted(fit):
+        m = re.match(r"(.*)-w([123])$", g)
+        if not m or m.group(1) not in fit:
+            continue
+        base, w = fit[m.group(1)], int(m.group(2))
+        ratios = {"area": fit[g]["area_um2"] / base["area_um2"], "err": base["mean_rel"] / fit[g]["mean_rel"]}
+        sib = fit.get(m.group(1) + "-w2")
+        if w == 3 and sib:
+            ratios["area_vs_w2"] = fit[g]["area_um2"] / sib["area_um2"]
+            ratios["err_vs_w2"] = sib["mean_rel"] / fit[g]["mean_rel"]
+        lines.append(f"{g}: " + ", ".join(f"{k} {v:.3g}" for k, v in ratios.items()))
+        for k, v in ratios.items():
+            ranges.setdefault((w, k), []).append(v)
+    lines.append("ranges (area: mixed/twin, err: twin mean error/mixed; *_vs_w2: against the w2 sibling):")
+    for (w, k), v in sorted(ranges.items()):
+        lines.append(f"w{w} {k}: {min(v):.3g} .. {max(v):.3g} over {len(v)}")
+    write_text("\n".join(lines) + "\n", argv)
+
+
+def genomes_main(d, names, argv):
+    """The table of named designs from DIR/evaluations.jsonl (--genomes)."""
+    fit, rtl, hand, front = search_fitness(d)
+    target_ps = front["context"]["period_ps"]
     missing = [n for n in names if n not in fit]
     if missing:
         print(f"search_table.py: not evaluated in {d}: {', '.join(missing)} "
@@ -203,6 +237,8 @@ def main(argv):
     path = os.path.join(d, "front.csv")
     if not os.path.exists(path):
         sys.exit(f"search_table.py: no {path} (run rayunits search tri --out {d} first)")
+    if "--pairs" in argv:
+        return pairs_main(d, argv)
     if "--genomes" in argv:
         i = argv.index("--genomes")
         if i + 1 >= len(argv) or not argv[i + 1].strip(","):

@@ -2,7 +2,8 @@
 # scripts/search_table.py --genomes: the rows of named designs come from the search's files — a
 # planted area in evaluations.jsonl and a planted verification status in front.csv appear in the
 # table, a hand design's row comes from front.json, evaluations of an older context are not read,
-# and a name the search did not evaluate is one line on stderr with exit 2.
+# and a name the search did not evaluate is one line on stderr with exit 2; --pairs computes its
+# ratios from the same rows (the planted area shows in them).
 set -euo pipefail
 ROOT="$(cd "$(dirname "$0")/../.." && pwd)"
 SRC="$ROOT/sweeps/results/search/tri_e7m16_250MHz_mixed"
@@ -23,6 +24,11 @@ grep -qF '| `mt-q0-i0-p0-w2` | 1,234,567 | 186 | 77 |' <<<"$out" || fail "plante
 grep -qF '| FAIL (planted) |' <<<"$out" || fail "planted status"
 grep -qF '| `mt-q1-i0-p0` (hand: mt) | 5,404,343 | 250 |' <<<"$out" || fail "hand design"
 [ "$(grep -c '^| `' <<<"$out")" = 3 ] || fail "three rows"
+# --pairs: the planted area reaches the ratios against the twin and the w2 sibling
+pairs="$("$PY" "$ROOT/scripts/search_table.py" "$W" --pairs)"
+grep -q '^mt-q0-i0-p0-w2: area 0.226, err 3.82$' <<<"$pairs" || fail "pairs: planted w2 against its twin"
+grep -q '^mt-q0-i0-p0-w3: area 2.34, err 133, area_vs_w2 10.4, err_vs_w2 34.7$' <<<"$pairs" || fail "pairs: w3 against the planted w2"
+grep -q '^w2 area: 0.226 \.\. ' <<<"$pairs" || fail "pairs: range"
 set +e
 err="$("$PY" "$ROOT/scripts/search_table.py" "$W" --genomes mt-q0-i0-p0-w2,no-such-design 2>&1 >/dev/null)"; rc=$?
 set -e
